@@ -1,0 +1,170 @@
+//! Campaign files: TOML → `--set` overrides → serde (unknown keys rejected) → validated
+//! [`Campaign`]. Errors name the file, the key path, the value and the allowed range.
+
+mod describe;
+mod raw;
+mod table;
+mod validate;
+
+pub use describe::describe;
+pub use raw::RawCampaign;
+pub use validate::{DEFAULT_LAYER_M, DEFAULT_WALL_HEAT_TO_LAYER};
+
+use crate::model::flight::Phase;
+use crate::model::params::Params;
+use std::path::{Path, PathBuf};
+
+/// Why a campaign could not be loaded. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum CampaignError {
+    #[error("cannot read campaign {file}: {source}")]
+    Read {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{file}: invalid TOML: {message}")]
+    Syntax { file: PathBuf, message: String },
+    #[error("{file}: {message}")]
+    Schema { file: PathBuf, message: String },
+    #[error("{file}: --set {key}: {message}")]
+    Override {
+        file: PathBuf,
+        key: String,
+        message: String,
+    },
+    #[error("{file}: {key} = {value} is out of range: allowed {allowed}")]
+    Invalid {
+        file: PathBuf,
+        key: String,
+        value: String,
+        allowed: String,
+    },
+}
+
+/// A validated campaign: the physics parameters, the trajectory and the run settings.
+#[derive(Clone, Debug)]
+pub struct Campaign {
+    /// Where it was read from.
+    pub path: PathBuf,
+    /// The campaign text with the overrides applied (provenance for output metadata).
+    pub text: String,
+    pub name: String,
+    pub params: Params,
+    pub phases: Vec<Phase>,
+    /// Time-history sampling interval, s.
+    pub output_interval_s: f64,
+    /// Dispersion-campaign size (used by `run`).
+    pub instances: u64,
+    /// Random seed (used by `run`).
+    pub seed: u64,
+    /// Initial slosh angle, rad (free-decay studies).
+    pub initial_slosh_angle_rad: f64,
+}
+
+impl Campaign {
+    /// Read, override and validate the campaign at `path`. `overrides` are `key=value` strings.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Campaign, CampaignError> {
+        let text = std::fs::read_to_string(path).map_err(|source| CampaignError::Read {
+            file: path.to_path_buf(),
+            source,
+        })?;
+        Campaign::from_text(path, &text, overrides)
+    }
+
+    /// Parse campaign `text` as if read from `path`.
+    pub fn from_text(
+        path: &Path,
+        text: &str,
+        overrides: &[String],
+    ) -> Result<Campaign, CampaignError> {
+        let file = path.to_path_buf();
+        let mut doc: toml::Table = toml::from_str(text).map_err(|e| CampaignError::Syntax {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
+        for o in overrides {
+            apply_override(&mut doc, o).map_err(|(key, message)| CampaignError::Override {
+                file: file.clone(),
+                key,
+                message,
+            })?;
+        }
+        let resolved = if overrides.is_empty() {
+            text.to_string()
+        } else {
+            toml::to_string(&doc).map_err(|e| CampaignError::Schema {
+                file: file.clone(),
+                message: e.to_string(),
+            })?
+        };
+        let raw: RawCampaign = toml::from_str(&resolved).map_err(|e| CampaignError::Schema {
+            file: file.clone(),
+            message: one_line(&e.to_string()),
+        })?;
+        validate::validate(&raw, path, resolved)
+    }
+}
+
+/// Flatten toml's multi-line diagnostic into one line that still carries the key and position.
+fn one_line(s: &str) -> String {
+    s.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && *l != "|")
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Parse a `--set` value: integer, float, boolean, else a string.
+fn parse_value(v: &str) -> toml::Value {
+    if let Ok(i) = v.parse::<i64>() {
+        toml::Value::Integer(i)
+    } else if let Ok(x) = v.parse::<f64>() {
+        toml::Value::Float(x)
+    } else if let Ok(b) = v.parse::<bool>() {
+        toml::Value::Boolean(b)
+    } else {
+        toml::Value::String(v.to_string())
+    }
+}
+
+/// Apply `a.b.0.c=value`: tables by key (created when missing), arrays by index (must exist).
+/// Unknown keys are caught afterwards by serde's `deny_unknown_fields`.
+fn apply_override(doc: &mut toml::Table, spec: &str) -> Result<(), (String, String)> {
+    let (key, value) = spec
+        .split_once('=')
+        .ok_or_else(|| (spec.to_string(), "expected KEY=VALUE".to_string()))?;
+    let key = key.trim();
+    let parts: Vec<&str> = key.split('.').collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err((key.to_string(), "empty segment in the key path".to_string()));
+    }
+    let fail = |m: &str| (key.to_string(), m.to_string());
+    let mut node: &mut toml::Value = doc
+        .entry(parts[0].to_string())
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    for part in &parts[1..] {
+        node = match node {
+            toml::Value::Table(t) => t
+                .entry(part.to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new())),
+            toml::Value::Array(a) => {
+                let i: usize = part
+                    .parse()
+                    .map_err(|_| fail("an array needs a numeric index"))?;
+                let len = a.len();
+                a.get_mut(i).ok_or_else(|| {
+                    fail(&format!("index {i} out of range (array has {len} entries)"))
+                })?
+            }
+            _ => return Err(fail("the path goes through a scalar")),
+        };
+    }
+    if matches!(node, toml::Value::Table(t) if !t.is_empty())
+        || matches!(node, toml::Value::Array(_))
+    {
+        return Err(fail("names a table or array; --set takes a scalar key"));
+    }
+    *node = parse_value(value.trim());
+    Ok(())
+}

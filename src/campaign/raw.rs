@@ -1,0 +1,176 @@
+//! The campaign TOML as written: serde structs with `deny_unknown_fields`, every field optional
+//! where a documented default exists. Units are in the names; `campaigns/*.toml` document each.
+
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCampaign {
+    pub campaign: RawRun,
+    pub tank: RawTank,
+    pub propellant: RawPropellant,
+    pub ullage: RawUllage,
+    #[serde(default)]
+    pub heat_transfer: RawHeatTransfer,
+    #[serde(default)]
+    pub stratification: RawStratification,
+    #[serde(default)]
+    pub slosh: RawSlosh,
+    pub pressurization: Option<RawPressurization>,
+    pub relief: Option<RawRelief>,
+    #[serde(default)]
+    pub engine: RawEngine,
+    #[serde(default)]
+    pub feed: RawFeed,
+    #[serde(default)]
+    pub vehicle: RawVehicle,
+    pub phases: Vec<RawPhase>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRun {
+    pub name: Option<String>,
+    pub fidelity: Option<String>,
+    pub dt_s: Option<f64>,
+    pub output_interval_s: Option<f64>,
+    pub instances: Option<u64>,
+    pub seed: Option<u64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTank {
+    pub shape: String,
+    pub radius_m: f64,
+    pub cylinder_length_m: Option<f64>,
+    pub dome_ratio: Option<f64>,
+    pub heat_leak_w: f64,
+    pub wall_areal_mass_kg_per_m2: Option<f64>,
+    pub wall_cp_j_per_kg_k: Option<f64>,
+    pub meop_pa: f64,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPropellant {
+    pub fluid: String,
+    pub fill_fraction: f64,
+    pub temperature_k: Option<f64>,
+    pub subcooling_k: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawUllage {
+    pub pressure_pa: f64,
+    pub temperature_k: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawHeatTransfer {
+    pub evaporation_coefficient_kg_per_s_pa: Option<f64>,
+    pub accommodation_coefficient: Option<f64>,
+    pub h_ullage_interface_w_per_m2_k: Option<f64>,
+    pub h_layer_bulk_w_per_m2_k: Option<f64>,
+    pub h_wall_ullage_w_per_m2_k: Option<f64>,
+    pub h_wall_liquid_w_per_m2_k: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawStratification {
+    pub initial_thickness_m: Option<f64>,
+    pub diffusivity_factor: Option<f64>,
+    pub wall_heat_to_layer: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSlosh {
+    pub baffle_count: Option<u32>,
+    pub baffle_width_m: Option<f64>,
+    pub baffle_spacing_m: Option<f64>,
+    pub baffle_top_height_m: Option<f64>,
+    pub wave_amplitude_m: Option<f64>,
+    pub extra_damping_ratio: Option<f64>,
+    pub volume_coupling_m3: Option<f64>,
+    pub heat_transfer_enhancement_w_per_m2_k_s: Option<f64>,
+    pub mixing_coefficient: Option<f64>,
+    pub initial_angle_rad: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPressurization {
+    pub setpoint_pa: f64,
+    pub kp_kg_per_s_pa: f64,
+    pub kd_kg_per_pa: Option<f64>,
+    pub derivative_filter_s: Option<f64>,
+    pub max_flow_kg_per_s: f64,
+    pub gas_temperature_k: f64,
+    pub bottle_mass_kg: f64,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRelief {
+    pub crack_pa: f64,
+    pub reseat_pa: f64,
+    pub flow_area_m2: f64,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawEngine {
+    pub isp_s: Option<f64>,
+    pub propellant_fraction: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFeed {
+    pub line_height_m: Option<f64>,
+    pub line_loss_pa: Option<f64>,
+    pub line_velocity_m_s: Option<f64>,
+    pub npsh_required_m: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawVehicle {
+    pub dry_mass_kg: Option<f64>,
+    pub drag_area_m2: Option<f64>,
+    pub initial_velocity_m_s: Option<f64>,
+    pub initial_altitude_m: Option<f64>,
+    pub slosh_lever_arm_m: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPhase {
+    pub name: Option<String>,
+    pub kind: String,
+    pub duration_s: f64,
+    pub dt_s: Option<f64>,
+    pub thrust_n: Option<f64>,
+    pub flight_path_angle_deg: Option<f64>,
+    pub gravity_m_s2: Option<f64>,
+    pub pressurize: Option<bool>,
+    pub excitation: Option<RawExcitation>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExcitation {
+    pub kind: String,
+    pub amplitude_m_s2: Option<f64>,
+    pub frequency_hz: Option<f64>,
+    pub phase_rad: Option<f64>,
+    pub start_s: Option<f64>,
+    pub duration_s: Option<f64>,
+    pub f_start_hz: Option<f64>,
+    pub f_end_hz: Option<f64>,
+    pub file: Option<String>,
+}

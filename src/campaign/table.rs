@@ -1,0 +1,57 @@
+//! Tabulated excitation: a CSV of `time_s,a_lat_m_s2[,a_ax_m_s2]` with an optional header line and
+//! `#` comments, times strictly increasing.
+
+use super::validate::Checker;
+use super::CampaignError;
+use crate::model::flight::Excitation;
+use std::path::Path;
+
+/// Read and check an excitation table, naming `key` and the line on any error.
+pub(super) fn read_excitation_table(
+    c: &Checker,
+    key: &str,
+    path: &Path,
+) -> Result<Excitation, CampaignError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| c.table_err(key, path.display(), format!("a readable CSV file ({e})")))?;
+    let (mut ts, mut lat, mut ax) = (Vec::new(), Vec::new(), Vec::new());
+    for (n, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let nums: Option<Vec<f64>> = cells.iter().map(|s| s.parse::<f64>().ok()).collect();
+        let Some(nums) = nums else {
+            if ts.is_empty() {
+                continue; // header line
+            }
+            return Err(c.table_err(
+                key,
+                format!("{}:{}: {line}", path.display(), n + 1),
+                "numbers: time_s,a_lat_m_s2[,a_ax_m_s2]",
+            ));
+        };
+        let ok_len = nums.len() == 2 || nums.len() == 3;
+        let finite = nums.iter().all(|v| v.is_finite());
+        let increasing = ts.last().is_none_or(|&last| nums[0] > last);
+        if !ok_len || !finite || !increasing {
+            return Err(c.table_err(
+                key,
+                format!("{}:{}: {line}", path.display(), n + 1),
+                "2 or 3 finite numbers per row, time strictly increasing",
+            ));
+        }
+        ts.push(nums[0]);
+        lat.push(nums[1]);
+        ax.push(nums.get(2).copied().unwrap_or(0.0));
+    }
+    if ts.len() < 2 {
+        return Err(c.table_err(key, path.display(), "a table with at least two rows"));
+    }
+    Ok(Excitation::Table {
+        time_s: ts,
+        a_lat: lat,
+        a_ax: ax,
+    })
+}

@@ -1,0 +1,660 @@
+//! Raw campaign → validated [`Campaign`]: ranges checked, defaults resolved, key paths kept for
+//! error messages. Nothing downstream re-validates.
+
+use super::raw::*;
+use super::{Campaign, CampaignError};
+use crate::fluids::Fluid;
+use crate::geometry::{Shape, Tank};
+use crate::model::flight::{Excitation, Phase, PhaseKind, G0};
+use crate::model::params::*;
+use std::path::Path;
+
+/// Checks values against allowed ranges, naming the file and key on failure.
+pub(super) struct Checker<'a> {
+    pub file: &'a Path,
+}
+
+impl Checker<'_> {
+    fn err(&self, key: &str, value: impl ToString, allowed: impl ToString) -> CampaignError {
+        CampaignError::Invalid {
+            file: self.file.to_path_buf(),
+            key: key.to_string(),
+            value: value.to_string(),
+            allowed: allowed.to_string(),
+        }
+    }
+
+    /// A finite value in [lo, hi].
+    fn range(&self, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, CampaignError> {
+        if v.is_finite() && v >= lo && v <= hi {
+            Ok(v)
+        } else {
+            Err(self.err(key, v, format!("a finite number in [{lo}, {hi}]")))
+        }
+    }
+
+    /// A finite value in (lo, hi].
+    fn positive(&self, key: &str, v: f64, hi: f64) -> Result<f64, CampaignError> {
+        if v.is_finite() && v > 0.0 && v <= hi {
+            Ok(v)
+        } else {
+            Err(self.err(key, v, format!("a finite number in (0, {hi}]")))
+        }
+    }
+
+    fn opt_range(
+        &self,
+        key: &str,
+        v: Option<f64>,
+        default: f64,
+        lo: f64,
+        hi: f64,
+    ) -> Result<f64, CampaignError> {
+        self.range(key, v.unwrap_or(default), lo, hi)
+    }
+
+    fn opt_positive(
+        &self,
+        key: &str,
+        v: Option<f64>,
+        hi: f64,
+    ) -> Result<Option<f64>, CampaignError> {
+        v.map(|x| self.positive(key, x, hi)).transpose()
+    }
+
+    fn required(&self, key: &str, v: Option<f64>) -> Result<f64, CampaignError> {
+        v.ok_or_else(|| self.err(key, "(missing)", "a value: this excitation kind needs it"))
+    }
+}
+
+/// Validate a parsed campaign read from `file` (its directory resolves excitation tables).
+pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign, CampaignError> {
+    let c = Checker { file };
+    let run = &raw.campaign;
+    let fidelity = match run.fidelity.as_deref().unwrap_or("lumped") {
+        "homogeneous" => Fidelity::Homogeneous,
+        "lumped" => Fidelity::Lumped,
+        "two_mode" => Fidelity::TwoMode,
+        "layered" => {
+            return Err(c.err(
+                "campaign.fidelity",
+                "layered",
+                "homogeneous | lumped | two_mode (layered is not implemented yet)",
+            ))
+        }
+        other => {
+            return Err(c.err(
+                "campaign.fidelity",
+                other,
+                "homogeneous | lumped | two_mode",
+            ))
+        }
+    };
+    let dt_default = c.opt_range("campaign.dt_s", run.dt_s, 0.1, 1.0e-5, 3600.0)?;
+    let output_interval_s = c.opt_range(
+        "campaign.output_interval_s",
+        run.output_interval_s,
+        1.0,
+        1.0e-4,
+        1.0e6,
+    )?;
+
+    // Tank.
+    let t = &raw.tank;
+    let shape = Shape::from_name(&t.shape)
+        .ok_or_else(|| c.err("tank.shape", &t.shape, "cylinder | capsule | sphere"))?;
+    let radius = c.positive("tank.radius_m", t.radius_m, 50.0)?;
+    let length = match shape {
+        Shape::Cylinder => c.positive(
+            "tank.cylinder_length_m",
+            t.cylinder_length_m.unwrap_or(f64::NAN),
+            500.0,
+        )?,
+        Shape::Capsule => c.opt_range(
+            "tank.cylinder_length_m",
+            t.cylinder_length_m,
+            0.0,
+            0.0,
+            500.0,
+        )?,
+        Shape::Sphere => 0.0,
+    };
+    let dome = match shape {
+        Shape::Capsule => {
+            c.opt_range("tank.dome_ratio", t.dome_ratio, 1.0 / 2f64.sqrt(), 0.1, 3.0)?
+        }
+        _ => 1.0,
+    };
+    let tank = Tank::new(shape, radius, length, dome);
+    let heat_leak_w = c.range("tank.heat_leak_w", t.heat_leak_w, 0.0, 1.0e7)?;
+    let wall_mass = c.opt_range(
+        "tank.wall_areal_mass_kg_per_m2",
+        t.wall_areal_mass_kg_per_m2,
+        5.0,
+        0.01,
+        1000.0,
+    )?;
+    let meop_pa = c.positive("tank.meop_pa", t.meop_pa, 1.0e8)?;
+
+    // Propellant and initial state.
+    let pr = &raw.propellant;
+    let fluid = Fluid::from_name(&pr.fluid)
+        .ok_or_else(|| c.err("propellant.fluid", &pr.fluid, "LH2 | LOX | LCH4 | LN2"))?;
+    let f = fluid.props();
+    let fill = c.range("propellant.fill_fraction", pr.fill_fraction, 0.02, 0.98)?;
+    let (p_lo, p_hi) = (f.psat_pa(f.t_min_k), f.psat_pa(f.t_max_k));
+    let p0 = c.range(
+        "ullage.pressure_pa",
+        raw.ullage.pressure_pa,
+        p_lo,
+        0.95 * f.p_crit_pa,
+    )?;
+    let t_sat = f.tsat_k(p0.min(p_hi));
+    let t_liquid = match (pr.temperature_k, pr.subcooling_k) {
+        (Some(_), Some(_)) => {
+            return Err(c.err(
+                "propellant.subcooling_k",
+                "set with temperature_k",
+                "either temperature_k or subcooling_k, not both",
+            ))
+        }
+        (Some(tk), None) => c.range("propellant.temperature_k", tk, f.t_min_k, t_sat)?,
+        (None, Some(sc)) => {
+            t_sat - c.range("propellant.subcooling_k", sc, 0.0, t_sat - f.t_min_k)?
+        }
+        (None, None) => {
+            if p0 > p_hi {
+                return Err(c.err("ullage.pressure_pa", p0, format!("at most {p_hi:.0} Pa for saturated {} (set propellant.temperature_k for a pressurized tank)", fluid.name())));
+            }
+            t_sat
+        }
+    };
+    let t_ullage = c.opt_range(
+        "ullage.temperature_k",
+        raw.ullage.temperature_k,
+        t_liquid,
+        t_liquid,
+        400.0,
+    )?;
+    let wall_cp = c.opt_range(
+        "tank.wall_cp_j_per_kg_k",
+        t.wall_cp_j_per_kg_k,
+        aluminium_cp(t_liquid),
+        0.1,
+        5000.0,
+    )?;
+
+    // Heat transfer, stratification, slosh.
+    let h = &raw.heat_transfer;
+    let heat_transfer = HeatTransfer {
+        evaporation_coefficient_kg_per_s_pa: c.opt_positive(
+            "heat_transfer.evaporation_coefficient_kg_per_s_pa",
+            h.evaporation_coefficient_kg_per_s_pa,
+            1.0e3,
+        )?,
+        accommodation: c.opt_range(
+            "heat_transfer.accommodation_coefficient",
+            h.accommodation_coefficient,
+            0.1,
+            1.0e-6,
+            1.0,
+        )?,
+        h_us_w_per_m2_k: c.opt_positive(
+            "heat_transfer.h_ullage_interface_w_per_m2_k",
+            h.h_ullage_interface_w_per_m2_k,
+            1.0e5,
+        )?,
+        h_sb_w_per_m2_k: h
+            .h_layer_bulk_w_per_m2_k
+            .map(|v| c.range("heat_transfer.h_layer_bulk_w_per_m2_k", v, 0.0, 1.0e5))
+            .transpose()?,
+        h_wall_ullage_w_per_m2_k: c.opt_positive(
+            "heat_transfer.h_wall_ullage_w_per_m2_k",
+            h.h_wall_ullage_w_per_m2_k,
+            1.0e5,
+        )?,
+        h_wall_liquid_w_per_m2_k: c.opt_positive(
+            "heat_transfer.h_wall_liquid_w_per_m2_k",
+            h.h_wall_liquid_w_per_m2_k,
+            1.0e5,
+        )?,
+    };
+    let st = &raw.stratification;
+    let stratification = Stratification {
+        initial_thickness_m: c.opt_range(
+            "stratification.initial_thickness_m",
+            st.initial_thickness_m,
+            DEFAULT_LAYER_M,
+            1.0e-5,
+            10.0,
+        )?,
+        diffusivity_factor: c.opt_range(
+            "stratification.diffusivity_factor",
+            st.diffusivity_factor,
+            1.0,
+            0.0,
+            1.0e4,
+        )?,
+        wall_heat_to_layer: c.opt_range(
+            "stratification.wall_heat_to_layer",
+            st.wall_heat_to_layer,
+            DEFAULT_WALL_HEAT_TO_LAYER,
+            0.0,
+            1.0,
+        )?,
+    };
+    let sl = &raw.slosh;
+    let baffle_count = sl.baffle_count.unwrap_or(0);
+    if baffle_count > 1000 {
+        return Err(c.err(
+            "slosh.baffle_count",
+            baffle_count,
+            "an integer in [0, 1000]",
+        ));
+    }
+    let baffles = Baffles {
+        count: baffle_count,
+        width_m: c.opt_range("slosh.baffle_width_m", sl.baffle_width_m, 0.0, 0.0, radius)?,
+        spacing_m: c.opt_range(
+            "slosh.baffle_spacing_m",
+            sl.baffle_spacing_m,
+            0.0,
+            0.0,
+            tank.height_m(),
+        )?,
+        top_height_m: c.opt_range(
+            "slosh.baffle_top_height_m",
+            sl.baffle_top_height_m,
+            0.0,
+            0.0,
+            tank.height_m(),
+        )?,
+        wave_amplitude_m: c.opt_range(
+            "slosh.wave_amplitude_m",
+            sl.wave_amplitude_m,
+            0.1 * radius,
+            0.0,
+            radius,
+        )?,
+    };
+    if baffle_count > 0 && baffles.width_m <= 0.0 {
+        return Err(c.err(
+            "slosh.baffle_width_m",
+            baffles.width_m,
+            format!("(0, {radius}] when slosh.baffle_count > 0"),
+        ));
+    }
+    let coupling = Coupling {
+        volume_m3: c.opt_range(
+            "slosh.volume_coupling_m3",
+            sl.volume_coupling_m3,
+            0.0,
+            0.0,
+            0.5 * (1.0 - fill) * tank.volume_m3(),
+        )?,
+        h_enhancement_w_per_m2_k_s: c.opt_range(
+            "slosh.heat_transfer_enhancement_w_per_m2_k_s",
+            sl.heat_transfer_enhancement_w_per_m2_k_s,
+            100.0,
+            0.0,
+            1.0e6,
+        )?,
+        mixing: c.opt_range(
+            "slosh.mixing_coefficient",
+            sl.mixing_coefficient,
+            0.05,
+            0.0,
+            100.0,
+        )?,
+    };
+    let extra_damping = c.opt_range(
+        "slosh.extra_damping_ratio",
+        sl.extra_damping_ratio,
+        0.0,
+        0.0,
+        2.0,
+    )?;
+    let initial_angle_rad = c.opt_range(
+        "slosh.initial_angle_rad",
+        sl.initial_angle_rad,
+        0.0,
+        -1.5,
+        1.5,
+    )?;
+
+    // Pressurization, relief, engine, feed, vehicle.
+    let pressurization = raw
+        .pressurization
+        .as_ref()
+        .map(|ps| -> Result<_, CampaignError> {
+            Ok(Pressurization {
+                setpoint_pa: c.positive("pressurization.setpoint_pa", ps.setpoint_pa, 1.0e8)?,
+                kp_kg_per_s_pa: c.range(
+                    "pressurization.kp_kg_per_s_pa",
+                    ps.kp_kg_per_s_pa,
+                    0.0,
+                    1.0,
+                )?,
+                kd_kg_per_pa: c.opt_range(
+                    "pressurization.kd_kg_per_pa",
+                    ps.kd_kg_per_pa,
+                    0.0,
+                    0.0,
+                    10.0,
+                )?,
+                derivative_filter_s: c.opt_range(
+                    "pressurization.derivative_filter_s",
+                    ps.derivative_filter_s,
+                    1.0,
+                    1.0e-3,
+                    1.0e4,
+                )?,
+                max_flow_kg_per_s: c.positive(
+                    "pressurization.max_flow_kg_per_s",
+                    ps.max_flow_kg_per_s,
+                    1.0e3,
+                )?,
+                gas_temperature_k: c.range(
+                    "pressurization.gas_temperature_k",
+                    ps.gas_temperature_k,
+                    4.0,
+                    600.0,
+                )?,
+                bottle_mass_kg: c.range(
+                    "pressurization.bottle_mass_kg",
+                    ps.bottle_mass_kg,
+                    0.0,
+                    1.0e5,
+                )?,
+            })
+        })
+        .transpose()?;
+    let relief = raw
+        .relief
+        .as_ref()
+        .map(|r| -> Result<_, CampaignError> {
+            let crack = c.positive("relief.crack_pa", r.crack_pa, 1.0e8)?;
+            Ok(Relief {
+                crack_pa: crack,
+                reseat_pa: c.range("relief.reseat_pa", r.reseat_pa, 0.0, crack)?,
+                flow_area_m2: c.positive("relief.flow_area_m2", r.flow_area_m2, 10.0)?,
+            })
+        })
+        .transpose()?;
+    let fd = &raw.feed;
+    let feed = Feed {
+        isp_s: c.opt_range("engine.isp_s", raw.engine.isp_s, 450.0, 1.0, 1.0e4)?,
+        propellant_fraction: c.opt_range(
+            "engine.propellant_fraction",
+            raw.engine.propellant_fraction,
+            1.0,
+            1.0e-3,
+            1.0,
+        )?,
+        line_height_m: c.opt_range("feed.line_height_m", fd.line_height_m, 0.0, -100.0, 100.0)?,
+        line_loss_pa: c.opt_range("feed.line_loss_pa", fd.line_loss_pa, 0.0, 0.0, 1.0e7)?,
+        line_velocity_m_s: c.opt_range(
+            "feed.line_velocity_m_s",
+            fd.line_velocity_m_s,
+            0.0,
+            0.0,
+            200.0,
+        )?,
+        npsh_required_m: c.opt_range(
+            "feed.npsh_required_m",
+            fd.npsh_required_m,
+            0.0,
+            0.0,
+            1.0e4,
+        )?,
+    };
+    let v = &raw.vehicle;
+    let vehicle = Vehicle {
+        dry_mass_kg: c.opt_range("vehicle.dry_mass_kg", v.dry_mass_kg, 0.0, 0.0, 1.0e8)?,
+        drag_area_m2: c.opt_range("vehicle.drag_area_m2", v.drag_area_m2, 0.0, 0.0, 1.0e4)?,
+        initial_velocity_m_s: c.opt_range(
+            "vehicle.initial_velocity_m_s",
+            v.initial_velocity_m_s,
+            0.0,
+            -1.0e4,
+            1.0e5,
+        )?,
+        initial_altitude_m: c.opt_range(
+            "vehicle.initial_altitude_m",
+            v.initial_altitude_m,
+            0.0,
+            0.0,
+            1.0e9,
+        )?,
+        slosh_lever_arm_m: c.opt_range(
+            "vehicle.slosh_lever_arm_m",
+            v.slosh_lever_arm_m,
+            0.0,
+            -1.0e3,
+            1.0e3,
+        )?,
+    };
+
+    if raw.phases.is_empty() {
+        return Err(c.err("phases", "[]", "at least one [[phases]] entry"));
+    }
+    let dir = file.parent().unwrap_or_else(|| Path::new("."));
+    let phases = raw
+        .phases
+        .iter()
+        .enumerate()
+        .map(|(i, ph)| phase(&c, i, ph, dt_default, dir))
+        .collect::<Result<Vec<_>, _>>()?;
+
+    let params = Params {
+        fidelity,
+        fluid,
+        tank,
+        heat_leak_w,
+        wall_areal_mass_kg_per_m2: wall_mass,
+        wall_cp_j_per_kg_k: wall_cp,
+        meop_pa,
+        fill_fraction: fill,
+        liquid_temperature_k: t_liquid,
+        ullage_pressure_pa: p0,
+        ullage_temperature_k: t_ullage,
+        heat_transfer,
+        stratification,
+        coupling,
+        baffles,
+        extra_damping,
+        pressurization,
+        relief,
+        feed,
+        vehicle,
+    };
+    Ok(Campaign {
+        path: file.to_path_buf(),
+        text,
+        name: run.name.clone().unwrap_or_else(|| {
+            file.file_stem()
+                .map_or_else(|| "campaign".into(), |s| s.to_string_lossy().into_owned())
+        }),
+        params,
+        phases,
+        output_interval_s,
+        instances: run.instances.unwrap_or(1000),
+        seed: run.seed.unwrap_or(0),
+        initial_slosh_angle_rad: initial_angle_rad,
+    })
+}
+
+/// Default initial layer thickness, m: a millimetre-scale surface film at lock-up.
+pub const DEFAULT_LAYER_M: f64 = 1.0e-3;
+/// Default share of the bulk's wall heat lifted into the surface layer: 0, the paper's
+/// contact-area model (see `model::params::Stratification::wall_heat_to_layer`).
+pub const DEFAULT_WALL_HEAT_TO_LAYER: f64 = 0.0;
+
+/// Specific heat of aluminium alloy 6061 at temperature `t`, J/(kg·K): log-linear interpolation
+/// of NIST cryogenic material data (rounded), the default wall material.
+fn aluminium_cp(t: f64) -> f64 {
+    const T: [f64; 7] = [10.0, 20.0, 40.0, 77.0, 100.0, 150.0, 300.0];
+    const CP: [f64; 7] = [0.9, 8.9, 77.0, 336.0, 480.0, 683.0, 897.0];
+    let t = t.clamp(T[0], T[6]);
+    let i = T.partition_point(|&x| x <= t).clamp(1, 6);
+    let w = (t.ln() - T[i - 1].ln()) / (T[i].ln() - T[i - 1].ln());
+    (CP[i - 1].ln() * (1.0 - w) + CP[i].ln() * w).exp()
+}
+
+fn phase(
+    c: &Checker,
+    i: usize,
+    ph: &RawPhase,
+    dt_default: f64,
+    dir: &Path,
+) -> Result<Phase, CampaignError> {
+    let key = |k: &str| format!("phases.{i}.{k}");
+    let kind = match ph.kind.as_str() {
+        "hold" => PhaseKind::Hold,
+        "burn" => PhaseKind::Burn,
+        "coast" => PhaseKind::Coast,
+        other => return Err(c.err(&key("kind"), other, "hold | burn | coast")),
+    };
+    let duration = c.positive(&key("duration_s"), ph.duration_s, 1.0e9)?;
+    let dt = c.positive(&key("dt_s"), ph.dt_s.unwrap_or(dt_default), 3600.0)?;
+    let thrust = match kind {
+        PhaseKind::Burn => c.positive(&key("thrust_n"), ph.thrust_n.unwrap_or(f64::NAN), 1.0e9)?,
+        _ => c.range(&key("thrust_n"), ph.thrust_n.unwrap_or(0.0), 0.0, 0.0)?,
+    };
+    let gravity_default = match kind {
+        PhaseKind::Hold => G0,
+        PhaseKind::Burn => 0.0,
+        PhaseKind::Coast => 1.0e-4,
+    };
+    let gravity = c.opt_range(
+        &key("gravity_m_s2"),
+        ph.gravity_m_s2,
+        gravity_default,
+        0.0,
+        1000.0,
+    )?;
+    let gamma = c.opt_range(
+        &key("flight_path_angle_deg"),
+        ph.flight_path_angle_deg,
+        90.0,
+        -90.0,
+        90.0,
+    )?;
+    let excitation = match &ph.excitation {
+        None => Excitation::None,
+        Some(e) => excitation(c, &format!("phases.{i}.excitation"), e, dir)?,
+    };
+    Ok(Phase {
+        name: ph
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("{}{}", kind.name(), i)),
+        kind,
+        duration_s: duration,
+        dt_s: dt,
+        thrust_n: thrust,
+        flight_path_angle_rad: gamma.to_radians(),
+        gravity_m_s2: gravity,
+        excitation,
+        pressurize: ph.pressurize.unwrap_or(true),
+    })
+}
+
+fn excitation(
+    c: &Checker,
+    base: &str,
+    e: &RawExcitation,
+    dir: &Path,
+) -> Result<Excitation, CampaignError> {
+    let key = |k: &str| format!("{base}.{k}");
+    let amp = |c: &Checker| {
+        c.range(
+            &key("amplitude_m_s2"),
+            c.required(&key("amplitude_m_s2"), e.amplitude_m_s2)?,
+            -1000.0,
+            1000.0,
+        )
+    };
+    let start = c.opt_range(&key("start_s"), e.start_s, 0.0, 0.0, 1.0e9)?;
+    Ok(match e.kind.as_str() {
+        "none" => Excitation::None,
+        "step" => Excitation::Step {
+            amplitude: amp(c)?,
+            start_s: start,
+        },
+        "ramp" => Excitation::Ramp {
+            amplitude: amp(c)?,
+            start_s: start,
+            duration_s: c.positive(
+                &key("duration_s"),
+                c.required(&key("duration_s"), e.duration_s)?,
+                1.0e9,
+            )?,
+        },
+        "sine" => Excitation::Sine {
+            amplitude: amp(c)?,
+            frequency_hz: c.positive(
+                &key("frequency_hz"),
+                c.required(&key("frequency_hz"), e.frequency_hz)?,
+                1.0e4,
+            )?,
+            phase_rad: c.opt_range(&key("phase_rad"), e.phase_rad, 0.0, -1.0e3, 1.0e3)?,
+        },
+        "sweep" => Excitation::Sweep {
+            amplitude: amp(c)?,
+            f_start_hz: c.positive(
+                &key("f_start_hz"),
+                c.required(&key("f_start_hz"), e.f_start_hz)?,
+                1.0e4,
+            )?,
+            f_end_hz: c.positive(
+                &key("f_end_hz"),
+                c.required(&key("f_end_hz"), e.f_end_hz)?,
+                1.0e4,
+            )?,
+            duration_s: c.positive(
+                &key("duration_s"),
+                c.required(&key("duration_s"), e.duration_s)?,
+                1.0e9,
+            )?,
+        },
+        "gust" => Excitation::Gust {
+            amplitude: amp(c)?,
+            start_s: start,
+            duration_s: c.positive(
+                &key("duration_s"),
+                c.required(&key("duration_s"), e.duration_s)?,
+                1.0e9,
+            )?,
+        },
+        "table" => {
+            let name = e.file.as_deref().ok_or_else(|| {
+                c.err(
+                    &key("file"),
+                    "(missing)",
+                    "a CSV path relative to the campaign file",
+                )
+            })?;
+            super::table::read_excitation_table(c, &key("file"), &dir.join(name))?
+        }
+        other => {
+            return Err(c.err(
+                &key("kind"),
+                other,
+                "none | step | ramp | sine | sweep | gust | table",
+            ))
+        }
+    })
+}
+
+impl Checker<'_> {
+    /// Error for a table file (used by `table.rs`).
+    pub(super) fn table_err(
+        &self,
+        key: &str,
+        value: impl ToString,
+        allowed: impl ToString,
+    ) -> CampaignError {
+        self.err(key, value, allowed)
+    }
+}

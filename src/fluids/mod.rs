@@ -1,0 +1,529 @@
+//! Saturation-property fits for cryogenic propellants and helium pressurant.
+//!
+//! # Fluids and source data
+//!
+//! Propellants ([`Fluid`]): `LH2` (CoolProp `Hydrogen`, i.e. *normal* hydrogen),
+//! `LOX` (`Oxygen`), `LCH4` (`Methane`) and `LN2` (`Nitrogen`); pressurant
+//! [`HELIUM`] (`Helium`, treated as an ideal gas). All reference values come from
+//! CoolProp 8.0.0 (the exact version and git revision are recorded in the header of
+//! every fixture in `tests/fixtures/fluids/` and of [`table`]). The coefficients in
+//! [`table`] are generated: run `python3 tools/coolprop_fixtures.py` (CoolProp →
+//! fixture CSVs) and then `python3 tools/fit_fluids.py` (fixtures → `table.rs`).
+//! All quantities are SI: K, Pa, kg/m³, J/kg, J/(kg K), W/(m K), Pa s.
+//!
+//! # Usable range and fit forms
+//!
+//! Each propellant is fitted along saturation from `t_min_k = T_triple + 1 K` to
+//! `t_max_k = 0.9 T_crit`. Every liquid-side property is a degree-7 polynomial with
+//! exactly 8 monomial coefficients (constant term first, evaluated with Horner) in
+//! the normalised variable `x = (T − T_mid) / T_half ∈ [−1, 1]`, with
+//! `T_mid = (t_min_k + t_max_k) / 2` and `T_half = (t_max_k − t_min_k) / 2`:
+//! `ln P_sat`, `ρ_l`, `c_p,l`, `h_fg`, `k_l` and `ln μ_l`. The layout is uniform so
+//! that a GPU backend can evaluate the same [`FluidProps`] table in `f32`.
+//!
+//! * `h_l(T)` is the exact analytic integral of the `c_p,l` polynomial, referenced to
+//!   `h_l(t_min_k) = 0`, so `dh_l/dT == c_p,l` identically. (It differs from
+//!   CoolProp's saturated-liquid enthalpy rise by at most 0.5 % over the range: the
+//!   `v (1 − βT) dP_sat/dT` term is neglected.)
+//! * `dρ_l/dT` and `dP_sat/dT` are the analytic derivatives of the fits.
+//! * [`FluidProps::tsat_k`] inverts `ln P_sat` by safeguarded Newton iteration and
+//!   [`FluidProps::t_from_h_l_k`] inverts `h_l`.
+//!
+//! Accuracy against the CoolProp fixtures (maximum relative error over the 121
+//! saturated-liquid rows uniform in T, and for `k_v`, `μ_v` over the 61 gas rows
+//! uniform in ln T; checked by `tests/fluids.rs` against the contract in brackets;
+//! errors between the rows are the same to two digits). Evaluating the same
+//! coefficients by `f32` Horner (at the same `x`) changes them by less than 1e-6.
+//! The table is generated, so regenerate the numbers with `tools/fit_fluids.py`
+//! if the fixtures change:
+//!
+//! | fluid | P_sat [0.5 %] | ρ_l [1 %] | c_p,l [2 %] | h_fg [1 %] | k_l [3 %] | μ_l [3 %] | k_v [15 %] | μ_v [15 %] |
+//! |-------|---------|---------|---------|---------|---------|---------|--------|--------|
+//! | LH2   | 6.4e-6  | 1.3e-5  | 7.9e-4  | 2.8e-5  | 4.3e-4  | 1.8e-5  | 4.2e-2 | 1.07e-1 |
+//! | LOX   | 1.6e-4  | 3.4e-5  | 8.9e-4  | 4.8e-5  | 1.0e-4  | 1.5e-4  | 4.6e-2 | 4.1e-2 |
+//! | LCH4  | 6.1e-6  | 9.6e-6  | 3.0e-4  | 1.9e-5  | 1.3e-6  | 1.8e-5  | 2.0e-2 | 4.0e-2 |
+//! | LN2   | 2.8e-6  | 6.9e-6  | 2.3e-4  | 1.4e-5  | 1.0e-4  | 1.9e-5  | 4.1e-2 | 3.5e-2 |
+//!
+//! Helium power laws: k 2.3e-2, μ 2.7e-2 (contract 15 %).
+//!
+//! # Outside the usable range
+//!
+//! Every function is total: no panics, no allocation, and no NaN for finite
+//! inputs (a NaN input gives a NaN result). Results are finite for finite inputs,
+//! except that the linear `h_l` continuation and its inverse overflow to ±∞ for
+//! arguments beyond about 1e300.
+//!
+//! * `ρ_l`, `c_p,l`, `h_fg`, `k_l`, `μ_l`: `x` is clamped to `[−1, 1]`, i.e. the
+//!   value at the nearest end of the range; `dρ_l/dT` is therefore 0 outside.
+//! * `ln P_sat` is continued *linearly in x* (by value and slope at the nearest
+//!   end), so `P_sat` is continuous, strictly increasing and positive everywhere;
+//!   `ln P_sat` is finally limited to `[−700, 700]` so `P_sat` stays finite even for
+//!   absurd temperatures (its derivative is 0 where that limit is active).
+//! * `h_l` is continued linearly with the (clamped) `c_p,l` at the nearest end, so
+//!   `dh_l/dT == c_p,l` holds everywhere and `t_from_h_l_k` inverts it everywhere.
+//! * `tsat_k` clamps: pressures at or below `P_sat(t_min_k)` (including zero and
+//!   negative pressures) give `t_min_k`, pressures at or above `P_sat(t_max_k)` give
+//!   `t_max_k`.
+//!
+//! # Vapour and helium
+//!
+//! The propellant vapour and the helium pressurant are ideal gases with constant
+//! `c_p`, `c_v` (CoolProp ideal-gas `CP0MASS`; `c_v = c_p − R_u/M` with
+//! [`R_UNIVERSAL`]). For the propellants `c_p` is taken at the middle of the liquid
+//! range; note that normal hydrogen's `c_p⁰` rises from 10.3 kJ/(kg K) there to
+//! 14.3 kJ/(kg K) at 300 K, which this constant does not capture. Gas thermal
+//! conductivity and viscosity are power laws `y = y_ref (T / t_ref)^n` because the
+//! ullage can be far warmer than saturation: the propellant laws are fitted over
+//! `t_min_k .. 400 K` at `P_fit = 0.5 P_sat(t_min_k)` (single-phase gas over the
+//! whole range; dilute-gas values), helium over 5 .. 400 K at 1 bar. They omit the
+//! dense-gas excess: for 1–3 bar gas between `T_sat + 1 K` and 400 K they stay within
+//! 8 % of CoolProp for LOX, LCH4 and LN2 (LH2: k −19 % / +4 %, μ ±12 %), but along the
+//! saturated-vapour line they fall below CoolProp as the critical point nears
+//! (at `0.9 T_crit`: k by 30–40 %, μ by 13–18 %). Power laws are evaluated with `T`
+//! clamped to `[1, 10 000] K`.
+
+pub mod table;
+
+pub use table::HELIUM;
+
+/// Universal gas constant R_u in J/(mol K) (CODATA 2018, exact).
+pub const R_UNIVERSAL: f64 = 8.314_462_618;
+
+/// Number of polynomial coefficients of every liquid-side fit (degree 7).
+const NCOEF: usize = 8;
+/// `ln P_sat` is limited to this magnitude so `P_sat` is finite for any input.
+const LN_P_LIMIT: f64 = 700.0;
+/// Relative convergence tolerance of [`FluidProps::tsat_k`] on T.
+const TSAT_TOL: f64 = 1e-13;
+/// Relative convergence tolerance of [`FluidProps::t_from_h_l_k`] on T.
+const T_FROM_H_TOL: f64 = 1e-12;
+/// Iteration cap of the safeguarded Newton solvers.
+const MAX_ITER: usize = 40;
+/// Temperature clamp (K) for the gas power laws.
+const POWER_LAW_T_MIN_K: f64 = 1.0;
+/// Temperature clamp (K) for the gas power laws.
+const POWER_LAW_T_MAX_K: f64 = 10_000.0;
+
+/// A cryogenic propellant with saturation-property fits (CoolProp 8.0.0 source data).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fluid {
+    /// Liquid hydrogen (CoolProp `Hydrogen`, normal hydrogen); campaign name `"LH2"`.
+    Lh2,
+    /// Liquid oxygen (CoolProp `Oxygen`); campaign name `"LOX"`.
+    Lox,
+    /// Liquid methane (CoolProp `Methane`); campaign name `"LCH4"`.
+    Lch4,
+    /// Liquid nitrogen (CoolProp `Nitrogen`); campaign name `"LN2"`.
+    Ln2,
+}
+
+impl Fluid {
+    /// All propellants, in declaration order.
+    pub const ALL: [Fluid; 4] = [Fluid::Lh2, Fluid::Lox, Fluid::Lch4, Fluid::Ln2];
+
+    /// Campaign spelling: `"LH2"`, `"LOX"`, `"LCH4"`, `"LN2"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fluid::Lh2 => "LH2",
+            Fluid::Lox => "LOX",
+            Fluid::Lch4 => "LCH4",
+            Fluid::Ln2 => "LN2",
+        }
+    }
+
+    /// Parses the campaign spelling returned by [`Fluid::name`] (exact,
+    /// case-sensitive); `None` for anything else.
+    pub fn from_name(s: &str) -> Option<Fluid> {
+        Fluid::ALL.into_iter().find(|f| f.name() == s)
+    }
+
+    /// The constants and fit coefficients of this propellant (from [`table`]).
+    pub fn props(self) -> &'static FluidProps {
+        match self {
+            Fluid::Lh2 => &table::LH2,
+            Fluid::Lox => &table::LOX,
+            Fluid::Lch4 => &table::LCH4,
+            Fluid::Ln2 => &table::LN2,
+        }
+    }
+}
+
+/// One propellant's constants and fit coefficients (CoolProp 8.0.0 source data,
+/// generated into [`table`] by `tools/fit_fluids.py`).
+///
+/// `#[repr(C)]` with only `f64` scalars and `[f64; 8]` arrays so the same table can
+/// be uploaded to a GPU. The arrays are monomial coefficients (constant term first)
+/// in `x = (T − T_mid) / T_half`; see the [module docs](self) for the evaluation
+/// rules, range and accuracy.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct FluidProps {
+    /// Molar mass M in kg/mol (CoolProp `molar_mass`).
+    pub molar_mass_kg_per_mol: f64,
+    /// Triple-point temperature in K (CoolProp `Ttriple`).
+    pub t_triple_k: f64,
+    /// Critical temperature in K (CoolProp `Tcrit`).
+    pub t_crit_k: f64,
+    /// Critical pressure in Pa (CoolProp `pcrit`).
+    pub p_crit_pa: f64,
+    /// Lower end of the fitted range in K: `t_triple_k + 1`.
+    pub t_min_k: f64,
+    /// Upper end of the fitted range in K: `0.9 t_crit_k`.
+    pub t_max_k: f64,
+    /// Vapour ideal-gas isobaric specific heat in J/(kg K) (CoolProp `CP0MASS` at the
+    /// middle of the liquid range).
+    pub cp_vapor_j_per_kg_k: f64,
+    /// Vapour ideal-gas isochoric specific heat in J/(kg K): `cp_vapor − R_u/M`.
+    pub cv_vapor_j_per_kg_k: f64,
+    /// Vapour thermal conductivity at `vapor_t_ref_k`, in W/(m K) (power-law fit).
+    pub k_vapor_ref_w_per_m_k: f64,
+    /// Exponent of the vapour thermal-conductivity power law (dimensionless).
+    pub k_vapor_exp: f64,
+    /// Vapour dynamic viscosity at `vapor_t_ref_k`, in Pa s (power-law fit).
+    pub mu_vapor_ref_pa_s: f64,
+    /// Exponent of the vapour viscosity power law (dimensionless).
+    pub mu_vapor_exp: f64,
+    /// Reference temperature of the vapour power laws in K.
+    pub vapor_t_ref_k: f64,
+    /// `ln(P_sat / 1 Pa)` polynomial coefficients.
+    pub ln_psat: [f64; 8],
+    /// Saturated-liquid density polynomial coefficients, kg/m³.
+    pub rho_l: [f64; 8],
+    /// Saturated-liquid isobaric specific heat polynomial coefficients, J/(kg K).
+    pub cp_l: [f64; 8],
+    /// Latent heat `H(Q=1) − H(Q=0)` polynomial coefficients, J/kg.
+    pub h_fg: [f64; 8],
+    /// Saturated-liquid thermal conductivity polynomial coefficients, W/(m K).
+    pub k_l: [f64; 8],
+    /// `ln(μ_l / 1 Pa s)` polynomial coefficients (saturated-liquid viscosity).
+    pub ln_mu_l: [f64; 8],
+}
+
+/// Horner evaluation of `Σ c_i x^i`.
+#[inline]
+fn poly(c: &[f64; NCOEF], x: f64) -> f64 {
+    c.iter().rev().fold(0.0, |acc, &a| acc * x + a)
+}
+
+/// Horner evaluation of the derivative `Σ i c_i x^(i−1)`.
+#[inline]
+fn poly_deriv(c: &[f64; NCOEF], x: f64) -> f64 {
+    c.iter()
+        .enumerate()
+        .skip(1)
+        .rev()
+        .fold(0.0, |acc, (i, &a)| acc * x + i as f64 * a)
+}
+
+/// Horner evaluation of the antiderivative `Σ c_i x^(i+1) / (i+1)` (zero at x = 0).
+#[inline]
+fn poly_integral(c: &[f64; NCOEF], x: f64) -> f64 {
+    c.iter()
+        .enumerate()
+        .rev()
+        .fold(0.0, |acc, (i, &a)| acc * x + a / (i + 1) as f64)
+        * x
+}
+
+/// `y_ref (T / t_ref)^n` with T clamped to the power-law range.
+#[inline]
+fn power_law(y_ref: f64, t_ref: f64, n: f64, t_k: f64) -> f64 {
+    y_ref * (t_k.clamp(POWER_LAW_T_MIN_K, POWER_LAW_T_MAX_K) / t_ref).powf(n)
+}
+
+impl FluidProps {
+    /// Middle of the fitted range, K.
+    #[inline]
+    fn t_mid(&self) -> f64 {
+        0.5 * (self.t_min_k + self.t_max_k)
+    }
+
+    /// Half width of the fitted range, K.
+    #[inline]
+    fn t_half(&self) -> f64 {
+        0.5 * (self.t_max_k - self.t_min_k)
+    }
+
+    /// Normalised temperature, unclamped.
+    #[inline]
+    fn x_of(&self, t_k: f64) -> f64 {
+        (t_k - self.t_mid()) / self.t_half()
+    }
+
+    /// Normalised temperature clamped to `[−1, 1]`.
+    #[inline]
+    fn x_clamped(&self, t_k: f64) -> f64 {
+        self.x_of(t_k).clamp(-1.0, 1.0)
+    }
+
+    /// Temperature from a normalised temperature, K.
+    #[inline]
+    fn t_of(&self, x: f64) -> f64 {
+        self.t_mid() + self.t_half() * x
+    }
+
+    /// `(ln P_sat, d ln P_sat / dx)` with linear continuation outside `[−1, 1]`,
+    /// before the `±LN_P_LIMIT` limit.
+    #[inline]
+    fn ln_psat_and_slope(&self, t_k: f64) -> (f64, f64) {
+        let x = self.x_of(t_k);
+        if x < -1.0 {
+            let s = poly_deriv(&self.ln_psat, -1.0);
+            (poly(&self.ln_psat, -1.0) + s * (x + 1.0), s)
+        } else if x > 1.0 {
+            let s = poly_deriv(&self.ln_psat, 1.0);
+            (poly(&self.ln_psat, 1.0) + s * (x - 1.0), s)
+        } else {
+            (poly(&self.ln_psat, x), poly_deriv(&self.ln_psat, x))
+        }
+    }
+
+    /// Specific gas constant `R_u / M` of the propellant vapour, J/(kg K).
+    pub fn r_specific_j_per_kg_k(&self) -> f64 {
+        R_UNIVERSAL / self.molar_mass_kg_per_mol
+    }
+
+    /// Saturation pressure at `t_k` (K), in Pa: `exp` of the `ln_psat` polynomial,
+    /// continued linearly in `x` outside the range (strictly increasing, positive and
+    /// finite for every finite input).
+    pub fn psat_pa(&self, t_k: f64) -> f64 {
+        let (ln_p, _) = self.ln_psat_and_slope(t_k);
+        ln_p.clamp(-LN_P_LIMIT, LN_P_LIMIT).exp()
+    }
+
+    /// Analytic `dP_sat/dT` at `t_k` (K), in Pa/K; consistent with [`Self::psat_pa`]
+    /// including the linear continuation outside the range.
+    pub fn dpsat_dt_pa_per_k(&self, t_k: f64) -> f64 {
+        let (ln_p, slope) = self.ln_psat_and_slope(t_k);
+        if ln_p.abs() > LN_P_LIMIT {
+            return 0.0;
+        }
+        ln_p.exp() * slope / self.t_half()
+    }
+
+    /// Saturation temperature at pressure `p_pa` (Pa), in K: inverse of
+    /// [`Self::psat_pa`], converged to 1e-13 relative by Newton iteration on the
+    /// `ln_psat` polynomial (bisection-safeguarded on `[t_min_k, t_max_k]`, started
+    /// from `1/T` linear in `ln P` between the end points). Pressures outside
+    /// `[P_sat(t_min_k), P_sat(t_max_k)]` are clamped: they give `t_min_k` (also for
+    /// zero or negative pressure) or `t_max_k`.
+    pub fn tsat_k(&self, p_pa: f64) -> f64 {
+        if p_pa.is_nan() {
+            return f64::NAN;
+        }
+        let c = &self.ln_psat;
+        let l_lo = poly(c, -1.0);
+        let l_hi = poly(c, 1.0);
+        if p_pa <= 0.0 {
+            return self.t_min_k;
+        }
+        let ln_p = p_pa.ln();
+        if ln_p <= l_lo {
+            return self.t_min_k;
+        }
+        if ln_p >= l_hi {
+            return self.t_max_k;
+        }
+        // Clausius-Clapeyron guess: 1/T linear in ln P between the end points.
+        let frac = (ln_p - l_lo) / (l_hi - l_lo);
+        let inv_t = (1.0 - frac) / self.t_min_k + frac / self.t_max_k;
+        let mut x = self.x_clamped(1.0 / inv_t);
+        let (mut lo, mut hi) = (-1.0_f64, 1.0_f64);
+        for _ in 0..MAX_ITER {
+            let f = poly(c, x) - ln_p;
+            if f == 0.0 {
+                break;
+            }
+            if f > 0.0 {
+                hi = x;
+            } else {
+                lo = x;
+            }
+            let x_newton = x - f / poly_deriv(c, x);
+            if ((x_newton - x) * self.t_half()).abs() <= TSAT_TOL * self.t_of(x) {
+                // Newton step below tolerance: accept it (quadratic convergence).
+                x = x_newton.clamp(-1.0, 1.0);
+                break;
+            }
+            x = if x_newton > lo && x_newton < hi {
+                x_newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if (hi - lo) * self.t_half() <= TSAT_TOL * self.t_of(x) {
+                break;
+            }
+        }
+        self.t_of(x)
+    }
+
+    /// Saturated-liquid density at `t_k` (K), in kg/m³ (clamped outside the range).
+    pub fn rho_l_kg_per_m3(&self, t_k: f64) -> f64 {
+        poly(&self.rho_l, self.x_clamped(t_k))
+    }
+
+    /// Analytic `dρ_l/dT` at `t_k` (K), in kg/(m³ K); 0 outside the range, where
+    /// [`Self::rho_l_kg_per_m3`] is clamped.
+    pub fn drho_l_dt(&self, t_k: f64) -> f64 {
+        let x = self.x_of(t_k);
+        if x.is_nan() {
+            return f64::NAN;
+        }
+        if !(-1.0..=1.0).contains(&x) {
+            return 0.0;
+        }
+        poly_deriv(&self.rho_l, x) / self.t_half()
+    }
+
+    /// Saturated-liquid isobaric specific heat at `t_k` (K), in J/(kg K) (clamped
+    /// outside the range).
+    pub fn cp_l_j_per_kg_k(&self, t_k: f64) -> f64 {
+        poly(&self.cp_l, self.x_clamped(t_k))
+    }
+
+    /// Liquid specific enthalpy at `t_k` (K), in J/kg, relative to 0 at `t_min_k`:
+    /// the exact integral of [`Self::cp_l_j_per_kg_k`] (continued linearly with the
+    /// end-point `c_p` outside the range), so `dh_l/dT == c_p,l` everywhere.
+    pub fn h_l_j_per_kg(&self, t_k: f64) -> f64 {
+        if t_k <= self.t_min_k {
+            poly(&self.cp_l, -1.0) * (t_k - self.t_min_k)
+        } else if t_k >= self.t_max_k {
+            self.h_l_of_x(1.0) + poly(&self.cp_l, 1.0) * (t_k - self.t_max_k)
+        } else {
+            self.h_l_of_x(self.x_clamped(t_k))
+        }
+    }
+
+    /// `h_l` inside the range as a function of the normalised temperature.
+    #[inline]
+    fn h_l_of_x(&self, x: f64) -> f64 {
+        self.t_half() * (poly_integral(&self.cp_l, x) - poly_integral(&self.cp_l, -1.0))
+    }
+
+    /// Temperature (K) at which the liquid specific enthalpy is `h_j_per_kg` (J/kg):
+    /// inverse of [`Self::h_l_j_per_kg`], including its linear continuation outside
+    /// the range. Safeguarded Newton iteration converged to 1e-12 relative in T.
+    pub fn t_from_h_l_k(&self, h_j_per_kg: f64) -> f64 {
+        if h_j_per_kg.is_nan() {
+            return f64::NAN;
+        }
+        if h_j_per_kg <= 0.0 {
+            return self.t_min_k + h_j_per_kg / poly(&self.cp_l, -1.0);
+        }
+        let h_max = self.h_l_of_x(1.0);
+        if h_j_per_kg >= h_max {
+            return self.t_max_k + (h_j_per_kg - h_max) / poly(&self.cp_l, 1.0);
+        }
+        let mut x = (2.0 * h_j_per_kg / h_max - 1.0).clamp(-1.0, 1.0);
+        let (mut lo, mut hi) = (-1.0_f64, 1.0_f64);
+        for _ in 0..MAX_ITER {
+            let f = self.h_l_of_x(x) - h_j_per_kg;
+            if f == 0.0 {
+                break;
+            }
+            if f > 0.0 {
+                hi = x;
+            } else {
+                lo = x;
+            }
+            let x_newton = x - f / (self.t_half() * poly(&self.cp_l, x));
+            if ((x_newton - x) * self.t_half()).abs() <= T_FROM_H_TOL * self.t_of(x) {
+                // Newton step below tolerance: accept it (quadratic convergence).
+                x = x_newton.clamp(-1.0, 1.0);
+                break;
+            }
+            x = if x_newton > lo && x_newton < hi {
+                x_newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if (hi - lo) * self.t_half() <= T_FROM_H_TOL * self.t_of(x) {
+                break;
+            }
+        }
+        self.t_of(x)
+    }
+
+    /// Latent heat of vaporisation at `t_k` (K), in J/kg (clamped outside the range).
+    pub fn h_fg_j_per_kg(&self, t_k: f64) -> f64 {
+        poly(&self.h_fg, self.x_clamped(t_k))
+    }
+
+    /// Saturated-liquid thermal conductivity at `t_k` (K), in W/(m K) (clamped
+    /// outside the range).
+    pub fn k_l_w_per_m_k(&self, t_k: f64) -> f64 {
+        poly(&self.k_l, self.x_clamped(t_k))
+    }
+
+    /// Saturated-liquid dynamic viscosity at `t_k` (K), in Pa s (clamped outside the
+    /// range).
+    pub fn mu_l_pa_s(&self, t_k: f64) -> f64 {
+        poly(&self.ln_mu_l, self.x_clamped(t_k)).exp()
+    }
+
+    /// Vapour (dilute-gas) thermal conductivity at `t_k` (K), in W/(m K): power law
+    /// fitted over `t_min_k .. 400 K` (T clamped to `[1, 10 000] K`).
+    pub fn k_v_w_per_m_k(&self, t_k: f64) -> f64 {
+        power_law(
+            self.k_vapor_ref_w_per_m_k,
+            self.vapor_t_ref_k,
+            self.k_vapor_exp,
+            t_k,
+        )
+    }
+
+    /// Vapour (dilute-gas) dynamic viscosity at `t_k` (K), in Pa s: power law fitted
+    /// over `t_min_k .. 400 K` (T clamped to `[1, 10 000] K`).
+    pub fn mu_v_pa_s(&self, t_k: f64) -> f64 {
+        power_law(
+            self.mu_vapor_ref_pa_s,
+            self.vapor_t_ref_k,
+            self.mu_vapor_exp,
+            t_k,
+        )
+    }
+}
+
+/// Helium pressurant, ideal gas (CoolProp 8.0.0 `Helium` source data, generated into
+/// [`table`] by `tools/fit_fluids.py`); `#[repr(C)]`, only `f64` fields.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct GasProps {
+    /// Molar mass in kg/mol (CoolProp `molar_mass`).
+    pub molar_mass_kg_per_mol: f64,
+    /// Ideal-gas isobaric specific heat in J/(kg K) (CoolProp `CP0MASS`).
+    pub cp_j_per_kg_k: f64,
+    /// Ideal-gas isochoric specific heat in J/(kg K): `cp − R_u/M`.
+    pub cv_j_per_kg_k: f64,
+    /// Thermal conductivity at `t_ref_k`, in W/(m K) (power law fitted at 1 bar over
+    /// 5 .. 400 K).
+    pub k_ref_w_per_m_k: f64,
+    /// Exponent of the thermal-conductivity power law (dimensionless).
+    pub k_exp: f64,
+    /// Dynamic viscosity at `t_ref_k`, in Pa s (power law fitted at 1 bar over
+    /// 5 .. 400 K).
+    pub mu_ref_pa_s: f64,
+    /// Exponent of the viscosity power law (dimensionless).
+    pub mu_exp: f64,
+    /// Reference temperature of the power laws in K.
+    pub t_ref_k: f64,
+}
+
+impl GasProps {
+    /// Specific gas constant `R_u / M`, J/(kg K).
+    pub fn r_specific_j_per_kg_k(&self) -> f64 {
+        R_UNIVERSAL / self.molar_mass_kg_per_mol
+    }
+
+    /// Thermal conductivity at `t_k` (K), in W/(m K): `k_ref (T/t_ref)^k_exp`, with T
+    /// clamped to `[1, 10 000] K`.
+    pub fn k_w_per_m_k(&self, t_k: f64) -> f64 {
+        power_law(self.k_ref_w_per_m_k, self.t_ref_k, self.k_exp, t_k)
+    }
+
+    /// Dynamic viscosity at `t_k` (K), in Pa s: `mu_ref (T/t_ref)^mu_exp`, with T
+    /// clamped to `[1, 10 000] K`.
+    pub fn mu_pa_s(&self, t_k: f64) -> f64 {
+        power_law(self.mu_ref_pa_s, self.t_ref_k, self.mu_exp, t_k)
+    }
+}

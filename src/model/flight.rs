@@ -1,0 +1,216 @@
+//! Trajectory phases, lateral excitation and the atmosphere (MODEL.md §8).
+//!
+//! A phase fixes thrust, gravity level, flight-path angle and a lateral excitation; within a
+//! phase every instance advances with the same step, which keeps the GPU lockstep simple.
+
+/// Standard gravity, m/s².
+pub const G0: f64 = 9.806_65;
+/// Sea-level pressure of the exponential atmosphere, Pa.
+pub const P_SEA_LEVEL_PA: f64 = 101_325.0;
+/// Sea-level density of the exponential atmosphere, kg/m³.
+pub const RHO_SEA_LEVEL: f64 = 1.225;
+/// Scale height of the exponential atmosphere, m (US 1976 fit over 0–80 km).
+pub const SCALE_HEIGHT_M: f64 = 7_200.0;
+/// Mean Earth radius for the inverse-square gravity of the trajectory, m.
+pub const EARTH_RADIUS_M: f64 = 6_371_000.0;
+
+/// What the vehicle is doing in a phase.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PhaseKind {
+    /// On the pad or a test stand: supported, at rest, a_ax = the phase's gravity level.
+    Hold,
+    /// Engine burning: outflow, NPSH evaluated, a_ax = (T − D)/M + gravity level.
+    Burn,
+    /// Engine off in flight: a_ax = the residual (settling) acceleration of the phase.
+    Coast,
+}
+
+impl PhaseKind {
+    /// Campaign spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            PhaseKind::Hold => "hold",
+            PhaseKind::Burn => "burn",
+            PhaseKind::Coast => "coast",
+        }
+    }
+}
+
+/// Lateral excitation a_lat(t), m/s², with t measured from the phase start.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Excitation {
+    None,
+    /// a = amplitude for t ≥ start.
+    Step {
+        amplitude: f64,
+        start_s: f64,
+    },
+    /// Linear rise from 0 at `start_s` to `amplitude` over `duration_s`, then held.
+    Ramp {
+        amplitude: f64,
+        start_s: f64,
+        duration_s: f64,
+    },
+    /// a = amplitude · sin(2π f t + phase).
+    Sine {
+        amplitude: f64,
+        frequency_hz: f64,
+        phase_rad: f64,
+    },
+    /// Linear sine sweep from `f_start_hz` to `f_end_hz` over `duration_s`.
+    Sweep {
+        amplitude: f64,
+        f_start_hz: f64,
+        f_end_hz: f64,
+        duration_s: f64,
+    },
+    /// 1 − cos gust: a = amplitude/2 · (1 − cos(2π (t − start)/duration)) inside the gust.
+    Gust {
+        amplitude: f64,
+        start_s: f64,
+        duration_s: f64,
+    },
+    /// Tabulated (t, a_lat, a_ax extra), linearly interpolated, held beyond the ends.
+    Table {
+        time_s: Vec<f64>,
+        a_lat: Vec<f64>,
+        a_ax: Vec<f64>,
+    },
+}
+
+impl Excitation {
+    /// Lateral acceleration and an additional axial acceleration at phase time `t`, m/s².
+    pub fn eval(&self, t: f64) -> (f64, f64) {
+        use std::f64::consts::TAU;
+        match self {
+            Excitation::None => (0.0, 0.0),
+            Excitation::Step { amplitude, start_s } => {
+                (if t >= *start_s { *amplitude } else { 0.0 }, 0.0)
+            }
+            Excitation::Ramp {
+                amplitude,
+                start_s,
+                duration_s,
+            } => {
+                let s = ((t - start_s) / duration_s).clamp(0.0, 1.0);
+                (amplitude * s, 0.0)
+            }
+            Excitation::Sine {
+                amplitude,
+                frequency_hz,
+                phase_rad,
+            } => (amplitude * (TAU * frequency_hz * t + phase_rad).sin(), 0.0),
+            Excitation::Sweep {
+                amplitude,
+                f_start_hz,
+                f_end_hz,
+                duration_s,
+            } => {
+                let tc = t.clamp(0.0, *duration_s);
+                let rate = (f_end_hz - f_start_hz) / duration_s;
+                // Phase of a linear chirp; beyond the sweep it continues at f_end.
+                let phase =
+                    TAU * (f_start_hz * tc + 0.5 * rate * tc * tc) + TAU * f_end_hz * (t - tc);
+                (amplitude * phase.sin(), 0.0)
+            }
+            Excitation::Gust {
+                amplitude,
+                start_s,
+                duration_s,
+            } => {
+                let tau = t - start_s;
+                if tau >= 0.0 && tau <= *duration_s {
+                    (
+                        0.5 * amplitude * (1.0 - (TAU * tau / duration_s).cos()),
+                        0.0,
+                    )
+                } else {
+                    (0.0, 0.0)
+                }
+            }
+            Excitation::Table {
+                time_s,
+                a_lat,
+                a_ax,
+            } => (interp(time_s, a_lat, t), interp(time_s, a_ax, t)),
+        }
+    }
+
+    /// The instantaneous excitation frequency at phase time `t`, Hz (sweeps only).
+    pub fn sweep_frequency_hz(&self, t: f64) -> Option<f64> {
+        match self {
+            Excitation::Sweep {
+                f_start_hz,
+                f_end_hz,
+                duration_s,
+                ..
+            } => {
+                let tc = t.clamp(0.0, *duration_s);
+                Some(f_start_hz + (f_end_hz - f_start_hz) * tc / duration_s)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Piecewise-linear interpolation on ascending `xs`, constant beyond the ends.
+fn interp(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    let n = xs.len();
+    if n == 0 {
+        return 0.0;
+    }
+    if x <= xs[0] {
+        return ys[0];
+    }
+    if x >= xs[n - 1] {
+        return ys[n - 1];
+    }
+    let i = xs.partition_point(|&v| v <= x);
+    let (x0, x1, y0, y1) = (xs[i - 1], xs[i], ys[i - 1], ys[i]);
+    y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+}
+
+/// One trajectory phase, validated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Phase {
+    pub name: String,
+    pub kind: PhaseKind,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Integration step, s (the phase is split into equal steps no longer than this).
+    pub dt_s: f64,
+    /// Engine thrust during a burn, N.
+    pub thrust_n: f64,
+    /// Flight-path angle γ, rad.
+    pub flight_path_angle_rad: f64,
+    /// Gravity level or residual acceleration along the tank axis, m/s² (hold: local g;
+    /// coast: settling/micro-g level; burn: added to the thrust acceleration).
+    pub gravity_m_s2: f64,
+    pub excitation: Excitation,
+    /// Whether the helium pressurization system may flow in this phase.
+    pub pressurize: bool,
+}
+
+impl Phase {
+    /// Number of equal steps and their length: ceil(duration/dt), ending exactly at the phase end.
+    pub fn steps(&self) -> (u64, f64) {
+        let n = (self.duration_s / self.dt_s).ceil().max(1.0);
+        (n as u64, self.duration_s / n)
+    }
+}
+
+/// Atmospheric density at altitude `h`, kg/m³ (exponential model, 0 below sea level clamp).
+pub fn air_density(h_m: f64) -> f64 {
+    RHO_SEA_LEVEL * (-h_m.max(0.0) / SCALE_HEIGHT_M).exp()
+}
+
+/// Ambient pressure at altitude `h`, Pa: the relief valve's back pressure.
+pub fn ambient_pressure(h_m: f64) -> f64 {
+    P_SEA_LEVEL_PA * (-h_m.max(0.0) / SCALE_HEIGHT_M).exp()
+}
+
+/// Gravitational acceleration at altitude `h`, m/s² (inverse square).
+pub fn gravity(h_m: f64) -> f64 {
+    let r = EARTH_RADIUS_M / (EARTH_RADIUS_M + h_m.max(0.0));
+    G0 * r * r
+}

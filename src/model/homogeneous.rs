@@ -1,0 +1,165 @@
+//! The `homogeneous` level: liquid, vapour and helium in thermal equilibrium at one temperature,
+//! the vapour saturated (MODEL.md §1, §4). The classic baseline whose closed-tank pressure-rise
+//! rate has a closed form (tested in `tests/homogeneous.rs`).
+//!
+//! Conserved slots: `M_B` holds all propellant (liquid + vapour), `H_B` the energy of all fluid,
+//! `M_G` the helium. The temperature is the root of E(T) = `H_B`, with the vapour mass fixed by
+//! saturation and the tank volume.
+
+use super::boundary;
+use super::derive::{fill_level, motion, wall_temperatures, Derived, Drive};
+use super::params::Params;
+use super::state::*;
+use super::thermal::{self, ConvectionProps};
+use crate::fluids::HELIUM;
+
+/// Vapour mass at temperature `t` when `m_p` of propellant fills `v_tank` in equilibrium:
+/// m_v = ρ_v (V − m_p/ρ_l) / (1 − ρ_v/ρ_l), ρ_v = P_sat/(R_v T) (ideal gas, as in the ullage).
+fn vapor_mass(p: &Params, m_p: f64, t: f64) -> f64 {
+    let f = p.fluid.props();
+    let rho_v = f.psat_pa(t) / (f.r_specific_j_per_kg_k() * t);
+    let rho_l = f.rho_l_kg_per_m3(t);
+    (rho_v * (p.tank.volume_m3() - m_p / rho_l) / (1.0 - rho_v / rho_l)).clamp(0.0, m_p)
+}
+
+/// Energy of all fluid at equilibrium temperature `t`, J: liquid m_l h_l(T), vapour
+/// m_v (c_v,v T + offset) and helium m_g c_v,He T — the same references as the lumped nodes.
+pub fn fluid_energy(p: &Params, m_p: f64, m_g: f64, t: f64) -> f64 {
+    let f = p.fluid.props();
+    let m_v = vapor_mass(p, m_p, t);
+    let u_v = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(f);
+    (m_p - m_v) * f.h_l_j_per_kg(t) + m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t
+}
+
+/// Equilibrium temperature for the conserved propellant mass, helium mass and fluid energy:
+/// Newton on E(T) with a secant-free analytic-enough central difference, started from the
+/// all-liquid temperature, bracketed to the fluid's range.
+pub fn temperature(p: &Params, m_p: f64, m_g: f64, e: f64) -> f64 {
+    let f = p.fluid.props();
+    let (lo, hi) = (f.t_min_k, f.t_max_k);
+    let mut t = f.t_from_h_l_k(e / m_p).clamp(lo, hi);
+    for _ in 0..40 {
+        let h = 1.0e-6 * t;
+        let r = fluid_energy(p, m_p, m_g, t) - e;
+        let slope =
+            (fluid_energy(p, m_p, m_g, t + h) - fluid_energy(p, m_p, m_g, t - h)) / (2.0 * h);
+        let step = r / slope;
+        t = (t - step).clamp(lo, hi);
+        if step.abs() <= 1.0e-13 * t {
+            break;
+        }
+    }
+    t
+}
+
+/// Derived quantities of the equilibrium state.
+pub fn derive(p: &Params, s: &State, d: &Drive) -> Derived {
+    let f = p.fluid.props();
+    let (m_p, m_g) = (s[M_B], s[M_G]);
+    let t = temperature(p, m_p, m_g, s[H_B]);
+    let m_v = vapor_mass(p, m_p, t);
+    let rho = f.rho_l_kg_per_m3(t);
+    let mut out = Derived {
+        t_ullage_k: t,
+        t_layer_k: t,
+        t_bulk_k: t,
+        rho_layer: rho,
+        rho_bulk: rho,
+        v_bulk_m3: (m_p - m_v) / rho,
+        m_vapor_kg: m_v,
+        m_liquid_kg: m_p - m_v,
+        ..Default::default()
+    };
+    let v_l = out.v_bulk_m3;
+    fill_level(p, &mut out, v_l);
+    out.v_ullage_m3 = p.tank.volume_m3() - out.v_bulk_m3;
+    out.p_vapor_pa = f.psat_pa(t);
+    out.p_ullage_pa = out.p_vapor_pa + m_g * HELIUM.r_specific_j_per_kg_k() * t / out.v_ullage_m3;
+    let (twd, tww) = wall_temperatures(p, s, out.wetted_share);
+    out.t_wall_dry_k = twd;
+    out.t_wall_wet_k = tww;
+    motion(p, s, d, &mut out, f.mu_l_pa_s(t) / rho);
+    out
+}
+
+/// Right-hand side of the equilibrium node: wall heat, helium, venting and outflow.
+pub fn rhs(
+    p: &Params,
+    s: &State,
+    d: &Drive,
+    x: &Derived,
+    ds: &mut State,
+) -> boundary::BoundaryFlows {
+    let f = p.fluid.props();
+    let t = x.t_bulk_k;
+    let a_tot = p.tank.wall_area_m2();
+    let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * (1.0 - x.wetted_share));
+    let rho = x.rho_bulk;
+    let liq = ConvectionProps {
+        k: f.k_l_w_per_m_k(t),
+        mu: f.mu_l_pa_s(t),
+        rho,
+        cp: f.cp_l_j_per_kg_k(t),
+        beta: -f.drho_l_dt(t) / rho,
+    };
+    let m_u = x.m_vapor_kg + s[M_G];
+    let y = if m_u > 0.0 { x.m_vapor_kg / m_u } else { 1.0 };
+    let gas = ConvectionProps {
+        k: y * f.k_v_w_per_m_k(t) + (1.0 - y) * HELIUM.k_w_per_m_k(t),
+        mu: y * f.mu_v_pa_s(t) + (1.0 - y) * HELIUM.mu_pa_s(t),
+        rho: m_u / x.v_ullage_m3,
+        cp: y * f.cp_vapor_j_per_kg_k + (1.0 - y) * HELIUM.cp_j_per_kg_k,
+        beta: 1.0 / t,
+    };
+    let ht = &p.heat_transfer;
+    let h_wl = ht
+        .h_wall_liquid_w_per_m2_k
+        .unwrap_or_else(|| thermal::h_vertical_wall(&liq, x.a_ax, x.t_wall_wet_k - t, x.level_m));
+    let h_wu = ht.h_wall_ullage_w_per_m2_k.unwrap_or_else(|| {
+        thermal::h_vertical_wall(
+            &gas,
+            x.a_ax,
+            x.t_wall_dry_k - t,
+            p.tank.height_m() - x.level_m,
+        )
+    });
+    let q_wl = h_wl * a_wet * (x.t_wall_wet_k - t);
+    let q_wu = h_wu * a_dry * (x.t_wall_dry_k - t);
+
+    // The M_V slot is unused here; the ullage composition comes from the equilibrium.
+    let mut sv = *s;
+    sv[M_V] = x.m_vapor_kg;
+    let b = boundary::boundary_flows(p, &sv, d, x);
+    let h_v = f.cp_vapor_j_per_kg_k * t + vapor_enthalpy_offset(f);
+    let h_u = b.y_vapor * h_v + (1.0 - b.y_vapor) * HELIUM.cp_j_per_kg_k * t;
+    let h_l = f.h_l_j_per_kg(t);
+    let h_press = boundary::helium_inlet_enthalpy(p);
+
+    ds[M_B] = -b.out_kg_s - b.vent_kg_s * b.y_vapor;
+    ds[M_G] = b.press_kg_s - b.vent_kg_s * (1.0 - b.y_vapor);
+    ds[H_B] = q_wl + q_wu + b.press_kg_s * h_press - b.vent_kg_s * h_u - b.out_kg_s * h_l;
+    boundary::motion_rates(p, s, d, x, ds);
+
+    let q_env = p.heat_leak_w;
+    let dv_l = ds[M_B] / rho; // level motion for the wall hand-over (vapour share neglected)
+    let dz = dv_l / p.tank.cross_section_area_m2(x.level_m).max(1.0e-9);
+    let dshare = x.wetted_share_slope * dz;
+    let t_moving = if dshare < 0.0 {
+        x.t_wall_wet_k
+    } else {
+        x.t_wall_dry_k
+    };
+    let handover = p.wall_areal_mass_kg_per_m2 * a_tot * dshare * p.wall_cp_j_per_kg_k * t_moving;
+    ds[E_WD] = q_env * (1.0 - x.wetted_share) - q_wu - handover;
+    ds[E_WW] = q_env * x.wetted_share - q_wl + handover;
+
+    ds[VENT_V] = b.vent_kg_s * b.y_vapor;
+    ds[VENT_G] = b.vent_kg_s * (1.0 - b.y_vapor);
+    ds[OUT] = b.out_kg_s;
+    ds[PRESS_IN] = b.press_kg_s;
+    ds[E_ENV] = q_env;
+    ds[E_PRESS] = b.press_kg_s * h_press;
+    ds[E_VENT] = b.vent_kg_s * h_u;
+    ds[E_OUT] = b.out_kg_s * h_l;
+    b
+}

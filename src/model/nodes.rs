@@ -1,0 +1,234 @@
+//! Right-hand side of the `lumped` and `two_mode` levels: ullage, stratified layer, bulk liquid,
+//! dry and wetted wall (MODEL.md §4, §6). Keep in sync with `shaders/` once the GPU mirror exists.
+//!
+//! Fluxes are written once and applied with opposite signs to the two nodes they connect, so
+//! mass and energy are conserved by construction.
+
+use super::boundary::{self, BoundaryFlows};
+use super::derive::{Derived, Drive};
+use super::params::Params;
+use super::state::*;
+use super::thermal::{self, ConvectionProps};
+use crate::fluids::HELIUM;
+use std::f64::consts::PI;
+
+/// Interfacial and internal fluxes, for the output and the tests.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Fluxes {
+    /// Net evaporation (negative: condensation), kg/s.
+    pub evap_kg_s: f64,
+    /// Growth of the warm layer by entrainment of bulk liquid, kg/s.
+    pub strat_kg_s: f64,
+    /// Slosh mixing exchange, kg/s each way.
+    pub mix_kg_s: f64,
+    /// Heat from the wetted wall into the liquid, W.
+    pub q_wall_liquid_w: f64,
+    /// Heat from the dry wall into the ullage, W.
+    pub q_wall_ullage_w: f64,
+    /// Heat from the ullage into the layer, W.
+    pub q_ullage_layer_w: f64,
+    pub boundary: BoundaryFlows,
+    /// Lateral slosh force on the tank, N.
+    pub slosh_force_n: f64,
+}
+
+/// Liquid properties for convection at temperature `t`.
+fn liquid_props(p: &Params, t: f64) -> ConvectionProps {
+    let f = p.fluid.props();
+    let rho = f.rho_l_kg_per_m3(t);
+    ConvectionProps {
+        k: f.k_l_w_per_m_k(t),
+        mu: f.mu_l_pa_s(t),
+        rho,
+        cp: f.cp_l_j_per_kg_k(t),
+        beta: -f.drho_l_dt(t) / rho,
+    }
+}
+
+/// Ullage-gas properties at the ullage temperature: mass-fraction-weighted vapour and helium
+/// transport properties (a mixing rule adequate for a convection estimate), ideal-gas β = 1/T.
+fn gas_props(p: &Params, s: &State, x: &Derived) -> ConvectionProps {
+    let f = p.fluid.props();
+    let m = s[M_V] + s[M_G];
+    let y = if m > 0.0 { s[M_V] / m } else { 1.0 };
+    let t = x.t_ullage_k;
+    ConvectionProps {
+        k: y * f.k_v_w_per_m_k(t) + (1.0 - y) * HELIUM.k_w_per_m_k(t),
+        mu: y * f.mu_v_pa_s(t) + (1.0 - y) * HELIUM.mu_pa_s(t),
+        rho: m / x.v_ullage_m3,
+        cp: y * f.cp_vapor_j_per_kg_k + (1.0 - y) * HELIUM.cp_j_per_kg_k,
+        beta: 1.0 / t,
+    }
+}
+
+/// Enthalpy change of a liquid node whose own volume change does work P dV on the ullage:
+/// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² c_p). Returns (dH/dt, dV/dt).
+fn liquid_node_rates(p_pa: f64, flux_w: f64, dm: f64, t: f64, rho: f64, p: &Params) -> (f64, f64) {
+    let f = p.fluid.props();
+    let beta = -f.drho_l_dt(t) / (rho * rho * f.cp_l_j_per_kg_k(t));
+    let h = f.h_l_j_per_kg(t);
+    let dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (1.0 + p_pa * beta);
+    (dh, dm / rho + beta * (dh - h * dm))
+}
+
+/// Time derivative of the state at one instant. `dt` is the step the integrator is taking: the
+/// stiff evaporation term is rate-limited to it (linearly implicit, see [`evaporation`]).
+pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut State) -> Fluxes {
+    let f = p.fluid.props();
+    let ht = &p.heat_transfer;
+    let off = vapor_enthalpy_offset(f);
+    let (t_u, t_s, t_b) = (x.t_ullage_k, x.t_layer_k, x.t_bulk_k);
+    let a_i = x.interface_area_m2;
+    let r_surf = p.tank.surface_radius_m(x.level_m).max(1.0e-3);
+    let a_tot = p.tank.wall_area_m2();
+    let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * (1.0 - x.wetted_share));
+    let speed = boundary::slosh_speed(p, s, x);
+
+    // Wall heat transfer (Churchill–Chu on each wetted and dry height).
+    let liq = liquid_props(p, t_b);
+    let gas = gas_props(p, s, x);
+    let h_wl = ht
+        .h_wall_liquid_w_per_m2_k
+        .unwrap_or_else(|| thermal::h_vertical_wall(&liq, x.a_ax, x.t_wall_wet_k - t_b, x.level_m));
+    let h_wu = ht.h_wall_ullage_w_per_m2_k.unwrap_or_else(|| {
+        thermal::h_vertical_wall(
+            &gas,
+            x.a_ax,
+            x.t_wall_dry_k - t_u,
+            p.tank.height_m() - x.level_m,
+        )
+    });
+    // The wetted wall passes its heat into the liquid with a uniform flux; each liquid node takes
+    // the share of the wetted band it touches (MODEL.md §4): the layer the band between the
+    // interface and its own depth, the bulk the rest. A single wall node at the bulk temperature
+    // must not cool the warmer layer through that band, hence the flux split, not h (T_w − T_s).
+    let q_wl = h_wl * a_wet * (x.t_wall_wet_k - t_b);
+    let depth = x.v_layer_m3 / a_i;
+    let a_ws = (a_wet - p.tank.wetted_area_m2(x.level_m - depth)).clamp(0.0, a_wet);
+    let contact = a_ws / a_wet.max(1.0e-12);
+    // Optionally the wall boundary layer lifts part of the bulk's share to the surface.
+    let to_layer = contact + p.stratification.wall_heat_to_layer * (1.0 - contact);
+    let (q_ws, q_wb) = (to_layer * q_wl, (1.0 - to_layer) * q_wl);
+    let q_wu = h_wu * a_dry * (x.t_wall_dry_k - t_u);
+
+    // Interface: ullage ↔ layer (stable, warm gas over cold liquid) and layer ↔ bulk.
+    let h_us = ht
+        .h_us_w_per_m2_k
+        .unwrap_or_else(|| thermal::h_stable_interface(&gas, x.a_ax, t_u - t_s, 0.5 * r_surf))
+        + p.coupling.h_enhancement_w_per_m2_k_s * speed;
+    let q_us = h_us * a_i * (t_u - t_s);
+    let h_sb = ht.h_sb_w_per_m2_k.unwrap_or(0.0) + p.coupling.h_enhancement_w_per_m2_k_s * speed;
+    let q_sb = h_sb * a_i * (t_s - t_b);
+
+    // Layer growth by conduction penetration: δ² = (π/4) α_eff t reproduces the surface
+    // temperature of a semi-infinite liquid under constant flux (Carslaw & Jaeger §2.9), so
+    // dm_s/dt = ρ A π α_eff / (8 δ), δ = m_s / (ρ A). Needs bulk liquid to entrain.
+    let alpha = p.stratification.diffusivity_factor * f.k_l_w_per_m_k(t_s)
+        / (x.rho_layer * f.cp_l_j_per_kg_k(t_s));
+    let delta = (s[M_S] / (x.rho_layer * a_i)).max(1.0e-6);
+    let bulk_left = (s[M_B] / (1.0e-4 * (s[M_B] + s[M_S]) + 1.0e-9)).clamp(0.0, 1.0);
+    let m_strat = x.rho_layer * a_i * PI * alpha / (8.0 * delta) * bulk_left;
+    let m_mix = p.coupling.mixing * s[M_S] * speed * bulk_left;
+
+    let b = boundary::boundary_flows(p, s, d, x);
+    let m_evap = evaporation(p, s, x, dt);
+    // Engine draws from the bulk, then from the layer once the bulk is gone.
+    let (out_b, out_s) = (b.out_kg_s * bulk_left, b.out_kg_s * (1.0 - bulk_left));
+
+    let h_ls = f.h_l_j_per_kg(t_s);
+    let h_lb = f.h_l_j_per_kg(t_b);
+    let h_vap_gas = f.cp_vapor_j_per_kg_k * t_u + off;
+    // Evaporating liquid carries h_l + h_fg at T_s; condensing vapour leaves at the gas enthalpy.
+    let e_evap = m_evap.max(0.0) * (h_ls + f.h_fg_j_per_kg(t_s)) + m_evap.min(0.0) * h_vap_gas;
+    let y = b.y_vapor;
+    let h_u = y * h_vap_gas + (1.0 - y) * HELIUM.cp_j_per_kg_k * t_u;
+    let h_press = boundary::helium_inlet_enthalpy(p);
+
+    // Mass.
+    ds[M_V] = m_evap - b.vent_kg_s * y;
+    ds[M_G] = b.press_kg_s - b.vent_kg_s * (1.0 - y);
+    ds[M_S] = -m_evap + m_strat - out_s;
+    ds[M_B] = -m_strat - out_b;
+
+    // Liquid energy with the work of its own expansion.
+    let mix_w = m_mix * (h_ls - h_lb);
+    let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls;
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
+    let pu = x.p_ullage_pa;
+    let (dh_s, dv_s) = liquid_node_rates(pu, f_s, ds[M_S], t_s, x.rho_layer, p);
+    let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], t_b, x.rho_bulk, p);
+    ds[H_S] = dh_s;
+    ds[H_B] = dh_b;
+
+    // Ullage energy: the liquid's expansion work arrives here; the slosh volume term is external.
+    let force = boundary::motion_rates(p, s, d, x, ds);
+    let angle = super::derive::slosh_angle(p, s, &x.slosh);
+    let dv_slosh = p.coupling.volume_m3 * angle.cos() * boundary::slosh_angle_rate(p, s, x);
+    ds[U_U] = q_wu - q_us + e_evap + b.press_kg_s * h_press - b.vent_kg_s * h_u
+        + pu * (dv_s + dv_b)
+        - pu * dv_slosh;
+
+    // Wall: insulation heat by area share; the moving waterline hands wall mass (and its energy)
+    // from one node to the other.
+    let dz = (dv_s + dv_b) / p.tank.cross_section_area_m2(x.level_m).max(1.0e-9);
+    let m_wall = p.wall_areal_mass_kg_per_m2 * a_tot;
+    let dshare = x.wetted_share_slope * dz;
+    let t_moving = if dshare < 0.0 {
+        x.t_wall_wet_k
+    } else {
+        x.t_wall_dry_k
+    };
+    let handover = m_wall * dshare * p.wall_cp_j_per_kg_k * t_moving;
+    let q_env = p.heat_leak_w;
+    ds[E_WD] = q_env * (1.0 - x.wetted_share) - q_wu - handover;
+    ds[E_WW] = q_env * x.wetted_share - q_wl + handover;
+
+    // Boundary accumulators.
+    ds[VENT_V] = b.vent_kg_s * y;
+    ds[VENT_G] = b.vent_kg_s * (1.0 - y);
+    ds[OUT] = b.out_kg_s;
+    ds[PRESS_IN] = b.press_kg_s;
+    ds[E_ENV] = q_env;
+    ds[E_PRESS] = b.press_kg_s * h_press;
+    ds[E_VENT] = b.vent_kg_s * h_u;
+    ds[E_OUT] = out_s * h_ls + out_b * h_lb;
+    ds[E_WORK] = -pu * dv_slosh;
+
+    Fluxes {
+        evap_kg_s: m_evap,
+        strat_kg_s: m_strat,
+        mix_kg_s: m_mix,
+        q_wall_liquid_w: q_wl,
+        q_wall_ullage_w: q_wu,
+        q_ullage_layer_w: q_us,
+        boundary: b,
+        slosh_force_n: force,
+    }
+}
+
+/// Interfacial evaporation ṁ = K (P_sat(T_s) − P_v) (MODEL.md §4, [fix]: vapour partial pressure).
+///
+/// A realistic K relaxes P_v onto P_sat(T_s) in milliseconds. The rate is taken linearly implicit
+/// over the step: ṁ = K Δp / (1 + dt K J), J = ∂(P_v − P_sat)/∂m = R_v T_u / V_u +
+/// P_sat'(T_s) h_fg / (m_s c_p), which is K Δp when K dt J ≪ 1 and the one-step relaxation of Δp
+/// when K dt J ≫ 1, keeping the explicit RK step stable at any K.
+pub fn evaporation(p: &Params, s: &State, x: &Derived, dt: f64) -> f64 {
+    let f = p.fluid.props();
+    let t_s = x.t_layer_k;
+    let k = p
+        .heat_transfer
+        .evaporation_coefficient_kg_per_s_pa
+        .unwrap_or_else(|| {
+            thermal::schrage_coefficient(
+                x.interface_area_m2,
+                p.heat_transfer.accommodation,
+                f.molar_mass_kg_per_mol,
+                t_s,
+            )
+        });
+    let dp = f.psat_pa(t_s) - x.p_vapor_pa;
+    let j = f.r_specific_j_per_kg_k() * x.t_ullage_k / x.v_ullage_m3
+        + f.dpsat_dt_pa_per_k(t_s) * f.h_fg_j_per_kg(t_s)
+            / (s[M_S].max(1.0e-9) * f.cp_l_j_per_kg_k(t_s));
+    k * dp / (1.0 + dt * k * j)
+}

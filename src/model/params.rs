@@ -1,0 +1,180 @@
+//! The validated, resolved inputs of one tank instance: what the physics reads, in SI units.
+//!
+//! Produced by `campaign::validate` (ranges checked, defaults resolved); nothing downstream
+//! re-validates. Every field states its unit; defaults and sources live in the campaign docs.
+
+use crate::fluids::Fluid;
+use crate::geometry::Tank;
+
+/// Physics level (MODEL.md §1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fidelity {
+    /// One saturated liquid node in equilibrium with a saturated ullage.
+    Homogeneous,
+    /// Ullage, stratified layer, bulk and wall nodes; nonlinear pendulum slosh.
+    Lumped,
+    /// The lumped thermal nodes with two spring–mass–damper slosh modes.
+    TwoMode,
+}
+
+impl Fidelity {
+    /// Campaign spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fidelity::Homogeneous => "homogeneous",
+            Fidelity::Lumped => "lumped",
+            Fidelity::TwoMode => "two_mode",
+        }
+    }
+}
+
+/// Ring baffles (Miles 1958 damping, MODEL.md §5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Baffles {
+    /// Number of rings (0 = none).
+    pub count: u32,
+    /// Radial ring width W, m.
+    pub width_m: f64,
+    /// Axial spacing between rings, m.
+    pub spacing_m: f64,
+    /// Height of the top ring above the tank bottom, m; lower rings sit `spacing_m` apart below it.
+    pub top_height_m: f64,
+    /// Wave amplitude at the wall η used by Miles' formula, m.
+    pub wave_amplitude_m: f64,
+}
+
+/// Heat-transfer closures. `None` means "use the documented correlation".
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeatTransfer {
+    /// Interfacial evaporation coefficient K, kg/(s·Pa); `None`: Schrage kinetic theory.
+    pub evaporation_coefficient_kg_per_s_pa: Option<f64>,
+    /// Schrage accommodation coefficient σ (0, 1].
+    pub accommodation: f64,
+    /// Ullage ↔ interface coefficient h_us, W/(m²·K).
+    pub h_us_w_per_m2_k: Option<f64>,
+    /// Layer ↔ bulk base coefficient h_0, W/(m²·K).
+    pub h_sb_w_per_m2_k: Option<f64>,
+    /// Dry wall ↔ ullage coefficient, W/(m²·K).
+    pub h_wall_ullage_w_per_m2_k: Option<f64>,
+    /// Wetted wall ↔ liquid coefficient, W/(m²·K).
+    pub h_wall_liquid_w_per_m2_k: Option<f64>,
+}
+
+/// Growth and mixing of the warm surface layer (MODEL.md §4 ṁ_strat, §6.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stratification {
+    /// Initial layer thickness, m.
+    pub initial_thickness_m: f64,
+    /// Multiplier on the molecular thermal diffusivity for the layer's penetration growth, –.
+    pub diffusivity_factor: f64,
+    /// Share of the bulk's wall heat that the wall boundary layer lifts into the surface layer
+    /// (Tellep & Harper 1963); 0 is the paper's contact-area model, –.
+    pub wall_heat_to_layer: f64,
+}
+
+/// Slosh–thermal coupling constants (MODEL.md §6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coupling {
+    /// Ullage volume amplitude c_V of coupling I, m³ (0 for a rigid tank).
+    pub volume_m3: f64,
+    /// Heat-transfer enhancement k_h of coupling II, W/(m²·K) per rad/s.
+    pub h_enhancement_w_per_m2_k_s: f64,
+    /// Exchange mass coefficient c_mix of coupling III, per rad.
+    pub mixing: f64,
+}
+
+/// Helium PD pressurization with a finite bottle (MODEL.md §7).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pressurization {
+    /// Regulated ullage pressure P_ref, Pa.
+    pub setpoint_pa: f64,
+    /// Proportional gain, kg/(s·Pa).
+    pub kp_kg_per_s_pa: f64,
+    /// Derivative gain, kg/Pa.
+    pub kd_kg_per_pa: f64,
+    /// Derivative filter time constant, s.
+    pub derivative_filter_s: f64,
+    /// Maximum flow, kg/s.
+    pub max_flow_kg_per_s: f64,
+    /// Inlet gas temperature, K.
+    pub gas_temperature_k: f64,
+    /// Usable helium in the bottle, kg.
+    pub bottle_mass_kg: f64,
+}
+
+/// Relief valve with hysteresis, venting the ullage mixture through an orifice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Relief {
+    /// Cracking (opening) pressure, Pa.
+    pub crack_pa: f64,
+    /// Reseat (closing) pressure, Pa; below `crack_pa`.
+    pub reseat_pa: f64,
+    /// Effective flow area C_d·A, m².
+    pub flow_area_m2: f64,
+}
+
+/// Engine draw and feed line (MODEL.md §7, §9).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feed {
+    /// Engine specific impulse, s.
+    pub isp_s: f64,
+    /// This tank's share of the engine mass flow, –.
+    pub propellant_fraction: f64,
+    /// Feed-line drop from the tank outlet to the pump inlet, m.
+    pub line_height_m: f64,
+    /// Frictional line loss, Pa.
+    pub line_loss_pa: f64,
+    /// Line velocity, m/s.
+    pub line_velocity_m_s: f64,
+    /// Required NPSH of the pump, m.
+    pub npsh_required_m: f64,
+}
+
+/// 1-D vehicle for the flight state (MODEL.md §8).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vehicle {
+    /// Vehicle mass without this tank's propellant, kg (includes the other propellant at start).
+    pub dry_mass_kg: f64,
+    /// Drag coefficient × reference area, m².
+    pub drag_area_m2: f64,
+    /// Initial velocity, m/s.
+    pub initial_velocity_m_s: f64,
+    /// Initial altitude, m.
+    pub initial_altitude_m: f64,
+    /// Lever arm from the vehicle centre of mass to the slosh hinge, m (moment = F_x · arm).
+    pub slosh_lever_arm_m: f64,
+}
+
+/// Everything one instance needs apart from the phase list.
+#[derive(Clone, Copy, Debug)]
+pub struct Params {
+    pub fidelity: Fidelity,
+    pub fluid: Fluid,
+    pub tank: Tank,
+    /// Heat leak through the insulation into the wall, W.
+    pub heat_leak_w: f64,
+    /// Wall mass per unit area, kg/m².
+    pub wall_areal_mass_kg_per_m2: f64,
+    /// Wall specific heat, J/(kg·K).
+    pub wall_cp_j_per_kg_k: f64,
+    /// Maximum expected operating pressure (overpressure flag), Pa.
+    pub meop_pa: f64,
+    /// Initial liquid volume / tank volume.
+    pub fill_fraction: f64,
+    /// Initial liquid temperature, K.
+    pub liquid_temperature_k: f64,
+    /// Initial ullage pressure (vapour + helium), Pa.
+    pub ullage_pressure_pa: f64,
+    /// Initial ullage temperature, K.
+    pub ullage_temperature_k: f64,
+    pub heat_transfer: HeatTransfer,
+    pub stratification: Stratification,
+    pub coupling: Coupling,
+    pub baffles: Baffles,
+    /// Additional slosh damping ratio (devices not modelled otherwise), –.
+    pub extra_damping: f64,
+    pub pressurization: Option<Pressurization>,
+    pub relief: Option<Relief>,
+    pub feed: Feed,
+    pub vehicle: Vehicle,
+}

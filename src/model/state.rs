@@ -1,0 +1,141 @@
+//! State vector layout and the initial state (MODEL.md §4).
+//!
+//! The state holds conserved quantities (masses and energies), never temperatures, so that the
+//! Runge–Kutta step preserves total mass and energy to rounding: RK methods keep every linear
+//! invariant exactly, and every flux here leaves one slot and enters another. Temperatures are
+//! recovered from energies in [`super::derive`]. Accumulators of what crossed the tank boundary
+//! (vented, drawn, pressurant, heat) live in the same vector for the same reason.
+
+use super::params::{Fidelity, Params};
+use crate::fluids::{FluidProps, HELIUM};
+
+/// Vapour mass in the ullage, kg.
+pub const M_V: usize = 0;
+/// Helium mass in the ullage, kg.
+pub const M_G: usize = 1;
+/// Ullage internal energy, J (`lumped`/`two_mode`).
+pub const U_U: usize = 2;
+/// Stratified-layer mass, kg.
+pub const M_S: usize = 3;
+/// Stratified-layer enthalpy m_s h_l(T_s), J.
+pub const H_S: usize = 4;
+/// Bulk-liquid mass, kg (`homogeneous`: all propellant, liquid + vapour).
+pub const M_B: usize = 5;
+/// Bulk-liquid enthalpy, J (`homogeneous`: energy of all fluid incl. helium).
+pub const H_B: usize = 6;
+/// Dry-wall energy m c_w T, J.
+pub const E_WD: usize = 7;
+/// Wetted-wall energy, J.
+pub const E_WW: usize = 8;
+/// Pendulum angle θ, rad (`lumped`) or mode-1 displacement x_1, m (`two_mode`).
+pub const Q1: usize = 9;
+/// Its rate.
+pub const Q1D: usize = 10;
+/// Mode-2 displacement x_2, m (`two_mode`).
+pub const Q2: usize = 11;
+/// Its rate.
+pub const Q2D: usize = 12;
+/// Vehicle velocity, m/s.
+pub const VEL: usize = 13;
+/// Altitude, m.
+pub const ALT: usize = 14;
+/// Low-pass filtered ullage pressure for the pressurization D-term, Pa.
+pub const P_FILT: usize = 15;
+/// Vented vapour, kg.
+pub const VENT_V: usize = 16;
+/// Vented helium, kg.
+pub const VENT_G: usize = 17;
+/// Propellant drawn by the engine, kg.
+pub const OUT: usize = 18;
+/// Helium admitted, kg.
+pub const PRESS_IN: usize = 19;
+/// ∫ Q_env dt, J.
+pub const E_ENV: usize = 20;
+/// ∫ ṁ_press h_He dt, J.
+pub const E_PRESS: usize = 21;
+/// ∫ ṁ_vent h_u dt, J.
+pub const E_VENT: usize = 22;
+/// ∫ ṁ_out h_l dt, J.
+pub const E_OUT: usize = 23;
+/// ∫ −P dΔV_slosh dt, J (work of the paper's coupling-I volume term; 0 when c_V = 0).
+pub const E_WORK: usize = 24;
+/// Number of state slots.
+pub const NS: usize = 25;
+
+/// A state vector.
+pub type State = [f64; NS];
+
+/// Enthalpy reference of the vapour as an ideal gas: h_v(T) = c_p,v T + offset, with the offset
+/// chosen so that h_v − h_l = h_fg at the normal boiling point (MODEL.md §4, consistent
+/// references). Fixed per fluid so that dispersed inputs never move a reference.
+pub fn vapor_enthalpy_offset(f: &FluidProps) -> f64 {
+    let t_ref = f.tsat_k(101_325.0);
+    f.h_l_j_per_kg(t_ref) + f.h_fg_j_per_kg(t_ref) - f.cp_vapor_j_per_kg_k * t_ref
+}
+
+/// Initial wetted fraction of the wall and the liquid level for the initial fill.
+fn initial_level(p: &Params) -> (f64, f64) {
+    let v_l = p.fill_fraction * p.tank.volume_m3();
+    let z = p.tank.liquid_height_m(v_l);
+    (z, super::derive::wetted_fraction(&p.tank, z))
+}
+
+/// The initial state: liquid at `liquid_temperature_k`, ullage at the initial pressure (vapour at
+/// P_sat(T_l), helium the rest), wall at the liquid temperature, vehicle at its initial flight state.
+pub fn initial_state(p: &Params) -> State {
+    let f = p.fluid.props();
+    let mut s = [0.0; NS];
+    let t_l = p.liquid_temperature_k;
+    let rho = f.rho_l_kg_per_m3(t_l);
+    let v_tank = p.tank.volume_m3();
+    let v_l = p.fill_fraction * v_tank;
+    let v_u = v_tank - v_l;
+    let t_u = p.ullage_temperature_k;
+    let p_v = f.psat_pa(t_l).min(p.ullage_pressure_pa);
+    let p_g = (p.ullage_pressure_pa - p_v).max(0.0);
+    let m_v = p_v * v_u / (f.r_specific_j_per_kg_k() * t_u);
+    let m_g = p_g * v_u / (HELIUM.r_specific_j_per_kg_k() * t_u);
+    let m_l = rho * v_l;
+    s[M_V] = m_v;
+    s[M_G] = m_g;
+    match p.fidelity {
+        Fidelity::Homogeneous => {
+            // One equilibrium node: liquid, vapour and helium at the liquid temperature.
+            s[M_B] = m_l + m_v;
+            s[H_B] = super::homogeneous::fluid_energy(p, m_l + m_v, m_g, t_l);
+            s[M_V] = 0.0;
+        }
+        Fidelity::Lumped | Fidelity::TwoMode => {
+            let (z, _) = initial_level(p);
+            let area = p.tank.interface_area_m2(z).max(1.0e-6);
+            let m_s = (rho * area * p.stratification.initial_thickness_m).min(0.5 * m_l);
+            let off = vapor_enthalpy_offset(f);
+            s[U_U] = m_v * (f.cv_vapor_j_per_kg_k * t_u + off) + m_g * HELIUM.cv_j_per_kg_k * t_u;
+            s[M_S] = m_s;
+            s[H_S] = m_s * f.h_l_j_per_kg(t_l);
+            s[M_B] = m_l - m_s;
+            s[H_B] = (m_l - m_s) * f.h_l_j_per_kg(t_l);
+        }
+    }
+    let (_, wet) = initial_level(p);
+    let m_wall = p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2();
+    s[E_WD] = m_wall * (1.0 - wet) * p.wall_cp_j_per_kg_k * t_l;
+    s[E_WW] = m_wall * wet * p.wall_cp_j_per_kg_k * t_l;
+    s[VEL] = p.vehicle.initial_velocity_m_s;
+    s[ALT] = p.vehicle.initial_altitude_m;
+    s[P_FILT] = p.ullage_pressure_pa;
+    s
+}
+
+/// Total propellant + helium mass in the tank plus everything that left or entered, kg:
+/// constant to rounding (MODEL.md §10).
+pub fn mass_invariant(s: &State) -> f64 {
+    s[M_V] + s[M_G] + s[M_S] + s[M_B] + s[VENT_V] + s[VENT_G] + s[OUT] - s[PRESS_IN]
+}
+
+/// Internal energy of fluid and wall minus the net energy brought in across the boundary, J:
+/// constant to rounding (MODEL.md §10).
+pub fn energy_invariant(s: &State) -> f64 {
+    let inside = s[U_U] + s[H_S] + s[H_B] + s[E_WD] + s[E_WW];
+    inside - (s[E_ENV] + s[E_PRESS] - s[E_VENT] - s[E_OUT] + s[E_WORK])
+}

@@ -1,0 +1,438 @@
+//! One tank instance through its phase list: fixed steps, per-step quantities of interest
+//! (MODEL.md §11), divergence detection and an optional sampled time history.
+
+use crate::campaign::Campaign;
+use crate::model::derive::{slosh_angle, Derived, Drive};
+use crate::model::flight::{Phase, G0};
+use crate::model::params::{Fidelity, Params};
+use crate::model::state::*;
+use crate::model::{self, Evaluation};
+
+/// Quantities of interest of one instance (MODEL.md §11).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Summary {
+    pub peak_pressure_pa: f64,
+    pub peak_pressure_time_s: f64,
+    pub min_pressure_pa: f64,
+    pub min_pressure_time_s: f64,
+    /// Net mass evaporated at the interface, kg.
+    pub boiloff_kg: f64,
+    pub vented_kg: f64,
+    pub vented_vapor_kg: f64,
+    pub vented_helium_kg: f64,
+    pub pressurant_used_kg: f64,
+    pub propellant_drawn_kg: f64,
+    /// Smallest cavitation margin NPSH_a − NPSH_r while the engine drew, m (None: never drew).
+    pub min_cavitation_margin_m: Option<f64>,
+    pub min_cavitation_margin_pa: Option<f64>,
+    pub min_cavitation_margin_time_s: Option<f64>,
+    pub cavitation: bool,
+    pub overpressure: bool,
+    pub max_slosh_angle_rad: f64,
+    pub peak_slosh_force_n: f64,
+    pub peak_slosh_moment_n_m: f64,
+    /// T_s − T_b at the end, K.
+    pub final_stratification_k: f64,
+    pub final_pressure_pa: f64,
+    pub diverged: bool,
+    /// What left which range, and when (None unless diverged).
+    pub diverged_reason: Option<String>,
+    pub final_time_s: f64,
+    pub steps: u64,
+    /// |Δ mass invariant| / initial mass.
+    pub mass_error_rel: f64,
+    /// |Δ energy invariant| / energy scale (see [`energy_scale`]).
+    pub energy_error_rel: f64,
+}
+
+/// Names of the f64 time-history columns, in order (DESIGN.md "time history").
+pub const HISTORY_COLUMNS: [&str; 34] = [
+    "time_s",
+    "pressure_pa",
+    "vapor_pressure_pa",
+    "helium_pressure_pa",
+    "saturation_pressure_pa",
+    "ullage_temp_k",
+    "layer_temp_k",
+    "bulk_temp_k",
+    "wall_temp_k",
+    "wall_dry_temp_k",
+    "wall_wet_temp_k",
+    "liquid_mass_kg",
+    "layer_mass_kg",
+    "vapor_mass_kg",
+    "helium_mass_kg",
+    "fill_fraction",
+    "liquid_level_m",
+    "slosh_angle_rad",
+    "slosh_rate_rad_s",
+    "slosh_mode2_m",
+    "slosh_frequency_hz",
+    "slosh_damping_ratio",
+    "slosh_force_n",
+    "slosh_moment_n_m",
+    "cavitation_margin_m",
+    "evaporation_kg_s",
+    "vented_kg",
+    "pressurant_used_kg",
+    "propellant_drawn_kg",
+    "velocity_m_s",
+    "altitude_m",
+    "axial_accel_m_s2",
+    "lateral_accel_m_s2",
+    "heat_leak_w",
+];
+
+/// A sampled time history, column-major.
+#[derive(Clone, Debug, Default)]
+pub struct History {
+    /// One vector per entry of [`HISTORY_COLUMNS`].
+    pub columns: Vec<Vec<f64>>,
+    /// Phase name per row.
+    pub phase: Vec<String>,
+    /// Relief valve open per row.
+    pub valve_open: Vec<bool>,
+}
+
+impl History {
+    fn push(&mut self, row: [f64; HISTORY_COLUMNS.len()], phase: &str, valve: bool) {
+        if self.columns.is_empty() {
+            self.columns = vec![Vec::new(); HISTORY_COLUMNS.len()];
+        }
+        for (c, v) in self.columns.iter_mut().zip(row) {
+            c.push(v);
+        }
+        self.phase.push(phase.to_string());
+        self.valve_open.push(valve);
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.phase.len()
+    }
+
+    /// Whether no row was recorded.
+    pub fn is_empty(&self) -> bool {
+        self.phase.is_empty()
+    }
+
+    /// The column called `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        let i = HISTORY_COLUMNS.iter().position(|c| *c == name)?;
+        self.columns.get(i).map(Vec::as_slice)
+    }
+}
+
+/// Net positive suction head margin NPSH_a − NPSH_r, m, and the same in Pa (MODEL.md §9).
+pub fn cavitation_margin(p: &Params, s: &State, x: &Derived) -> (f64, f64) {
+    let f = p.fluid.props();
+    let bulk_gone = s[M_B] <= 1.0e-4 * (s[M_B] + s[M_S]);
+    let (rho, t_out) = if bulk_gone {
+        (x.rho_layer, x.t_layer_k)
+    } else {
+        (x.rho_bulk, x.t_bulk_k)
+    };
+    let fd = &p.feed;
+    let head_pa = x.p_ullage_pa + rho * x.a_ax * (x.level_m + fd.line_height_m)
+        - fd.line_loss_pa
+        - 0.5 * rho * fd.line_velocity_m_s * fd.line_velocity_m_s
+        - f.psat_pa(t_out);
+    let npsh_a = head_pa / (rho * G0);
+    let margin_m = npsh_a - fd.npsh_required_m;
+    (margin_m, margin_m * rho * G0)
+}
+
+/// Energy scale for the closure check: the magnitudes of every stored and exchanged energy, J.
+pub fn energy_scale(s0: &State, s: &State) -> f64 {
+    [U_U, H_S, H_B, E_WD, E_WW]
+        .iter()
+        .map(|&i| s0[i].abs())
+        .sum::<f64>()
+        + [E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK]
+            .iter()
+            .map(|&i| s[i].abs())
+            .sum::<f64>()
+}
+
+/// Why a state is unphysical, if it is.
+fn check_state(p: &Params, s: &State, x: &Derived) -> Option<String> {
+    if let Some(i) = s.iter().position(|v| !v.is_finite()) {
+        return Some(format!("state slot {i} is not finite"));
+    }
+    let f = p.fluid.props();
+    let checks = [
+        ("ullage pressure", x.p_ullage_pa, 0.0, 10.0 * f.p_crit_pa),
+        ("ullage volume", x.v_ullage_m3, 0.0, f64::INFINITY),
+        ("ullage temperature", x.t_ullage_k, 1.0, 2000.0),
+        (
+            "layer temperature",
+            x.t_layer_k,
+            f.t_min_k - 2.0,
+            f.t_max_k + 2.0,
+        ),
+        (
+            "bulk temperature",
+            x.t_bulk_k,
+            f.t_min_k - 2.0,
+            f.t_max_k + 2.0,
+        ),
+        ("dry wall temperature", x.t_wall_dry_k, 1.0, 2000.0),
+        ("wetted wall temperature", x.t_wall_wet_k, 1.0, 2000.0),
+    ];
+    for (what, v, lo, hi) in checks {
+        if !(v > lo && v < hi) {
+            return Some(format!("{what} {v:.6e} left ({lo}, {hi})"));
+        }
+    }
+    let scale = 1.0e-9 * (s[M_B] + s[M_S]).abs().max(1.0);
+    for (what, i) in [
+        ("vapour mass", M_V),
+        ("helium mass", M_G),
+        ("layer mass", M_S),
+        ("bulk mass", M_B),
+    ] {
+        if s[i] < -scale {
+            return Some(format!("{what} {:.6e} kg is negative", s[i]));
+        }
+    }
+    None
+}
+
+/// Everything the step loop tracks besides the state.
+struct Tracker {
+    summary: Summary,
+    s0: State,
+}
+
+impl Tracker {
+    fn observe(&mut self, p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) {
+        let x = &ev.derived;
+        let q = &mut self.summary;
+        let pu = x.p_ullage_pa;
+        if pu > q.peak_pressure_pa {
+            q.peak_pressure_pa = pu;
+            q.peak_pressure_time_s = t;
+        }
+        if pu < q.min_pressure_pa {
+            q.min_pressure_pa = pu;
+            q.min_pressure_time_s = t;
+        }
+        if d.burning {
+            let (m, m_pa) = cavitation_margin(p, s, x);
+            if q.min_cavitation_margin_m.is_none_or(|old| m < old) {
+                q.min_cavitation_margin_m = Some(m);
+                q.min_cavitation_margin_pa = Some(m_pa);
+                q.min_cavitation_margin_time_s = Some(t);
+            }
+        }
+        let angle = slosh_angle(p, s, &x.slosh).abs();
+        q.max_slosh_angle_rad = q.max_slosh_angle_rad.max(angle);
+        let force = ev.fluxes.slosh_force_n.abs();
+        q.peak_slosh_force_n = q.peak_slosh_force_n.max(force);
+        q.peak_slosh_moment_n_m = q
+            .peak_slosh_moment_n_m
+            .max(force * p.vehicle.slosh_lever_arm_m.abs());
+    }
+
+    fn finish(mut self, p: &Params, t: f64, s: &State, x: &Derived, steps: u64) -> Summary {
+        let q = &mut self.summary;
+        let s0 = &self.s0;
+        q.final_time_s = t;
+        q.steps = steps;
+        q.vented_vapor_kg = s[VENT_V];
+        q.vented_helium_kg = s[VENT_G];
+        q.vented_kg = s[VENT_V] + s[VENT_G];
+        q.pressurant_used_kg = s[PRESS_IN];
+        q.propellant_drawn_kg = s[OUT];
+        q.boiloff_kg = x.m_vapor_kg - initial_vapor_mass(p, s0) + s[VENT_V];
+        q.final_stratification_k = x.t_layer_k - x.t_bulk_k;
+        q.final_pressure_pa = x.p_ullage_pa;
+        q.cavitation = q.min_cavitation_margin_m.is_some_and(|m| m < 0.0);
+        q.overpressure = q.peak_pressure_pa > p.meop_pa;
+        let m0 = mass_invariant(s0);
+        q.mass_error_rel = (mass_invariant(s) - m0).abs() / m0.abs();
+        q.energy_error_rel =
+            (energy_invariant(s) - energy_invariant(s0)).abs() / energy_scale(s0, s);
+        self.summary
+    }
+}
+
+/// Vapour mass of the initial state (homogeneous keeps it implicit in the equilibrium).
+fn initial_vapor_mass(p: &Params, s0: &State) -> f64 {
+    match p.fidelity {
+        Fidelity::Homogeneous => model::derive::derive(p, s0, &Drive::default()).m_vapor_kg,
+        _ => s0[M_V],
+    }
+}
+
+/// Initial state of a campaign, including the initial slosh displacement.
+pub fn initial_state(c: &Campaign, p: &Params) -> State {
+    let mut s = model::state::initial_state(p);
+    let th = c.initial_slosh_angle_rad;
+    match p.fidelity {
+        Fidelity::Homogeneous => {}
+        Fidelity::Lumped => s[Q1] = th,
+        Fidelity::TwoMode => {
+            let d = Drive::of_phase(&c.phases[0], 0.0, false);
+            let x = model::derive::derive(p, &s, &d);
+            s[Q1] = x.slosh.length_m[0] * th.tan();
+        }
+    }
+    s
+}
+
+/// One history row.
+fn row(p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) -> [f64; HISTORY_COLUMNS.len()] {
+    let x = &ev.derived;
+    let f = p.fluid.props();
+    let wall_share = x.wetted_share;
+    let (q1, q1d, q2) = match p.fidelity {
+        Fidelity::TwoMode => (
+            slosh_angle(p, s, &x.slosh),
+            s[Q1D] / x.slosh.length_m[0],
+            s[Q2],
+        ),
+        _ => (s[Q1], s[Q1D], 0.0),
+    };
+    let margin = if d.burning {
+        cavitation_margin(p, s, x).0
+    } else {
+        f64::NAN
+    };
+    [
+        t,
+        x.p_ullage_pa,
+        x.p_vapor_pa,
+        x.p_ullage_pa - x.p_vapor_pa,
+        f.psat_pa(x.t_layer_k),
+        x.t_ullage_k,
+        x.t_layer_k,
+        x.t_bulk_k,
+        wall_share * x.t_wall_wet_k + (1.0 - wall_share) * x.t_wall_dry_k,
+        x.t_wall_dry_k,
+        x.t_wall_wet_k,
+        x.m_liquid_kg,
+        s[M_S],
+        x.m_vapor_kg,
+        s[M_G],
+        (x.v_layer_m3 + x.v_bulk_m3) / p.tank.volume_m3(),
+        x.level_m,
+        q1,
+        q1d,
+        q2,
+        x.slosh.omega[0] / std::f64::consts::TAU,
+        x.slosh.zeta[0],
+        ev.fluxes.slosh_force_n,
+        ev.fluxes.slosh_force_n * p.vehicle.slosh_lever_arm_m,
+        margin,
+        ev.fluxes.evap_kg_s,
+        s[VENT_V] + s[VENT_G],
+        s[PRESS_IN],
+        s[OUT],
+        s[VEL],
+        s[ALT],
+        x.a_ax,
+        d.a_lat,
+        p.heat_leak_w,
+    ]
+}
+
+/// Integrate one instance with parameters `p` over the campaign's phases. With `history`,
+/// rows are recorded every `output_interval_s` and at every phase end.
+pub fn simulate(c: &Campaign, p: &Params, mut history: Option<&mut History>) -> Summary {
+    let mut s = initial_state(c, p);
+    let mut valve = false;
+    let d0 = Drive::of_phase(&c.phases[0], 0.0, valve);
+    let ev0 = model::evaluate(p, &s, &d0, c.phases[0].dt_s);
+    let mut tr = Tracker {
+        summary: Summary {
+            peak_pressure_pa: f64::NEG_INFINITY,
+            min_pressure_pa: f64::INFINITY,
+            ..Default::default()
+        },
+        s0: s,
+    };
+    tr.observe(p, 0.0, &s, &ev0, &d0);
+    if let Some(h) = history.as_deref_mut() {
+        h.push(row(p, 0.0, &s, &ev0, &d0), &c.phases[0].name, valve);
+    }
+    let mut t = 0.0;
+    let mut steps = 0u64;
+    let mut next_sample = c.output_interval_s;
+    let mut last = ev0;
+    'phases: for phase in &c.phases {
+        let (n, dt) = phase.steps();
+        for k in 0..n {
+            let tp = k as f64 * dt;
+            model::rk4_step(p, phase, &mut s, tp, dt, valve);
+            steps += 1;
+            t += dt;
+            let d = Drive::of_phase(phase, tp + dt, valve);
+            let ev = model::evaluate(p, &s, &d, dt);
+            if let Some(reason) = check_state(p, &s, &ev.derived) {
+                tr.summary.diverged = true;
+                tr.summary.diverged_reason =
+                    Some(format!("{reason} at t = {t:.3} s in phase {}", phase.name));
+                break 'phases;
+            }
+            tr.observe(p, t, &s, &ev, &d);
+            valve = model::update_valve(p, ev.derived.p_ullage_pa, valve);
+            let phase_end = k + 1 == n;
+            if let Some(h) = history.as_deref_mut() {
+                if t >= next_sample - 1.0e-9 * c.output_interval_s || phase_end {
+                    h.push(row(p, t, &s, &ev, &d), &phase.name, valve);
+                    while next_sample <= t + 1.0e-9 * c.output_interval_s {
+                        next_sample += c.output_interval_s;
+                    }
+                }
+            }
+            last = ev;
+        }
+    }
+    tr.finish(p, t, &s, &last.derived, steps)
+}
+
+/// Re-exported for tests: the phase a time falls in.
+pub fn phase_at(phases: &[Phase], t: f64) -> Option<usize> {
+    let mut end = 0.0;
+    for (i, ph) in phases.iter().enumerate() {
+        end += ph.duration_s;
+        if t <= end {
+            return Some(i);
+        }
+    }
+    None
+}
+
+/// A short summary a designer reads at a glance.
+pub fn describe_summary(q: &Summary) -> String {
+    let margin = q.min_cavitation_margin_m.map_or_else(
+        || "n/a (engine never drew)".to_string(),
+        |m| {
+            format!(
+                "{m:.3} m at t = {:.1} s",
+                q.min_cavitation_margin_time_s.unwrap_or(0.0)
+            )
+        },
+    );
+    format!(
+        "peak pressure {:.1} Pa at t = {:.1} s (min {:.1} Pa){}\nboil-off {:.4} kg, vented {:.4} kg, pressurant used {:.4} kg, drawn {:.2} kg\nmin cavitation margin {}{}\nmax slosh angle {:.4} rad, peak slosh force {:.2} N\nfinal stratification {:.4} K, final pressure {:.1} Pa\nclosure: mass {:.2e}, energy {:.2e}{}",
+        q.peak_pressure_pa,
+        q.peak_pressure_time_s,
+        q.min_pressure_pa,
+        if q.overpressure { " — OVERPRESSURE (above MEOP)" } else { "" },
+        q.boiloff_kg,
+        q.vented_kg,
+        q.pressurant_used_kg,
+        q.propellant_drawn_kg,
+        margin,
+        if q.cavitation { " — CAVITATION" } else { "" },
+        q.max_slosh_angle_rad,
+        q.peak_slosh_force_n,
+        q.final_stratification_k,
+        q.final_pressure_pa,
+        q.mass_error_rel,
+        q.energy_error_rel,
+        if q.diverged { " — DIVERGED" } else { "" },
+    )
+}

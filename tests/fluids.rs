@@ -1,0 +1,566 @@
+//! Integration tests for `cryoslosh::fluids`: the fits against the CoolProp fixtures
+//! in `tests/fixtures/fluids/` (written by `tools/coolprop_fixtures.py`), and the
+//! internal consistency of inverses, derivatives and out-of-range behaviour.
+//!
+//! Accuracy contract (maximum relative error at every fixture row): P_sat 0.5 %,
+//! ρ_l 1 %, h_fg 1 %, c_p,l 2 %, k_l and μ_l 3 %; vapour and helium power laws
+//! (k, μ over the gas fixtures' range, see `src/fluids/mod.rs`) 15 %.
+
+use std::path::PathBuf;
+
+use cryoslosh::fluids::{Fluid, FluidProps, GasProps, HELIUM, R_UNIVERSAL};
+
+const TOL_PSAT: f64 = 0.005;
+const TOL_RHO: f64 = 0.01;
+const TOL_HFG: f64 = 0.01;
+const TOL_CP: f64 = 0.02;
+const TOL_K_L: f64 = 0.03;
+const TOL_MU_L: f64 = 0.03;
+const TOL_POWER_LAW: f64 = 0.15;
+const MIN_ROWS: usize = 60;
+
+/// A fixture CSV: `#` comment lines, a header line, then numeric rows.
+struct Fixture {
+    name: String,
+    comments: Vec<String>,
+    columns: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Fixture {
+    fn load(file: &str) -> Fixture {
+        let path: PathBuf = [
+            env!("CARGO_MANIFEST_DIR"),
+            "tests",
+            "fixtures",
+            "fluids",
+            file,
+        ]
+        .iter()
+        .collect();
+        let text = std::fs::read_to_string(&path)
+            .unwrap_or_else(|e| panic!("cannot read fixture {}: {e}", path.display()));
+        let mut comments = Vec::new();
+        let mut columns: Option<Vec<String>> = None;
+        let mut rows = Vec::new();
+        for (lineno, line) in text.lines().enumerate() {
+            let line = line.trim();
+            if line.is_empty() {
+                continue;
+            }
+            if let Some(c) = line.strip_prefix('#') {
+                comments.push(c.trim().to_string());
+                continue;
+            }
+            match &columns {
+                None => columns = Some(line.split(',').map(|s| s.trim().to_string()).collect()),
+                Some(cols) => {
+                    let row: Vec<f64> = line
+                        .split(',')
+                        .map(|s| {
+                            s.trim().parse::<f64>().unwrap_or_else(|e| {
+                                panic!("{file}:{}: bad number {s:?}: {e}", lineno + 1)
+                            })
+                        })
+                        .collect();
+                    assert_eq!(
+                        row.len(),
+                        cols.len(),
+                        "{file}:{}: expected {} fields",
+                        lineno + 1,
+                        cols.len()
+                    );
+                    rows.push(row);
+                }
+            }
+        }
+        Fixture {
+            name: file.to_string(),
+            comments,
+            columns: columns.unwrap_or_else(|| panic!("{file}: no header line")),
+            rows,
+        }
+    }
+
+    fn col(&self, name: &str) -> usize {
+        self.columns
+            .iter()
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("{}: no column {name}", self.name))
+    }
+
+    fn column(&self, name: &str) -> Vec<f64> {
+        let i = self.col(name);
+        self.rows.iter().map(|r| r[i]).collect()
+    }
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    ((a - b) / b).abs()
+}
+
+/// Checks `model(T)` against the fixture column at every row; returns the max
+/// relative error.
+fn check_column(
+    fx: &Fixture,
+    fluid: &str,
+    prop: &str,
+    column: &str,
+    tol: f64,
+    model: impl Fn(f64) -> f64,
+) -> f64 {
+    let t = fx.column("t_k");
+    let y = fx.column(column);
+    let mut worst = 0.0_f64;
+    for (&t, &y) in t.iter().zip(&y) {
+        let v = model(t);
+        let e = rel(v, y);
+        assert!(
+            e <= tol,
+            "{fluid} {prop} at T = {t} K: fit {v:e} vs CoolProp {y:e}, relative error {e:.3e} > {tol}"
+        );
+        worst = worst.max(e);
+    }
+    worst
+}
+
+/// Five-point central difference of `f` at `t` with step `h`.
+fn fd(f: impl Fn(f64) -> f64, t: f64, h: f64) -> f64 {
+    (f(t - 2.0 * h) - 8.0 * f(t - h) + 8.0 * f(t + h) - f(t + 2.0 * h)) / (12.0 * h)
+}
+
+/// Interior temperatures, 2 % to 98 % of the range.
+fn interior(p: &FluidProps, n: usize) -> impl Iterator<Item = f64> + '_ {
+    (0..=n).map(move |i| {
+        let s = 0.02 + 0.96 * i as f64 / n as f64;
+        p.t_min_k + s * (p.t_max_k - p.t_min_k)
+    })
+}
+
+#[test]
+fn names_round_trip() {
+    let names: Vec<&str> = Fluid::ALL.iter().map(|f| f.name()).collect();
+    assert_eq!(names, ["LH2", "LOX", "LCH4", "LN2"]);
+    for f in Fluid::ALL {
+        assert_eq!(Fluid::from_name(f.name()), Some(f));
+    }
+    for bad in ["lh2", "Lox", "", "LH2 ", "GHe", "H2"] {
+        assert_eq!(Fluid::from_name(bad), None, "{bad:?} must not parse");
+    }
+}
+
+#[test]
+fn table_layout_is_flat_f64() {
+    // 13 scalars + 6 arrays of 8 coefficients, no padding (GPU upload relies on it).
+    assert_eq!(std::mem::size_of::<FluidProps>(), (13 + 6 * 8) * 8);
+    assert_eq!(std::mem::align_of::<FluidProps>(), 8);
+    assert_eq!(std::mem::size_of::<GasProps>(), 8 * 8);
+}
+
+#[test]
+fn constants_are_consistent() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        let fx = Fixture::load(&format!("{n}.csv"));
+        assert!(rel(p.t_min_k, p.t_triple_k + 1.0) < 1e-12, "{n} t_min");
+        assert!(rel(p.t_max_k, 0.9 * p.t_crit_k) < 1e-12, "{n} t_max");
+        let t = fx.column("t_k");
+        assert_eq!(
+            t.first().copied(),
+            Some(p.t_min_k),
+            "{n}: fixture starts at t_min"
+        );
+        assert_eq!(
+            t.last().copied(),
+            Some(p.t_max_k),
+            "{n}: fixture ends at t_max"
+        );
+        assert!(
+            p.p_crit_pa > p.psat_pa(p.t_max_k),
+            "{n}: p_crit above P_sat(t_max)"
+        );
+        assert!(
+            rel(
+                p.r_specific_j_per_kg_k(),
+                R_UNIVERSAL / p.molar_mass_kg_per_mol
+            ) < 1e-15,
+            "{n}: R_specific"
+        );
+        assert!(
+            rel(
+                p.cp_vapor_j_per_kg_k - p.cv_vapor_j_per_kg_k,
+                p.r_specific_j_per_kg_k()
+            ) < 1e-9,
+            "{n}: cp - cv = R"
+        );
+        let gamma = p.cp_vapor_j_per_kg_k / p.cv_vapor_j_per_kg_k;
+        assert!((1.3..1.7).contains(&gamma), "{n}: gamma = {gamma}");
+    }
+    let r_he = HELIUM.r_specific_j_per_kg_k();
+    assert!(rel(r_he, 2077.26) < 1e-4, "helium R = {r_he}");
+    assert!(rel(HELIUM.cp_j_per_kg_k, 5193.2) < 1e-3, "helium cp");
+    assert!(rel(HELIUM.cp_j_per_kg_k - HELIUM.cv_j_per_kg_k, r_he) < 1e-9);
+    assert!(rel(HELIUM.cp_j_per_kg_k / HELIUM.cv_j_per_kg_k, 5.0 / 3.0) < 1e-4);
+}
+
+#[test]
+fn fixtures_record_coolprop_version_and_are_uniform() {
+    for f in Fluid::ALL {
+        let fx = Fixture::load(&format!("{}.csv", f.name()));
+        assert!(
+            fx.comments.iter().any(|c| c.starts_with("CoolProp ")),
+            "{}: header must name the CoolProp version",
+            fx.name
+        );
+        assert!(fx.rows.len() >= MIN_ROWS, "{}: too few rows", fx.name);
+        let t = fx.column("t_k");
+        let step = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+        for (i, w) in t.windows(2).enumerate() {
+            assert!(
+                rel(w[1] - w[0], step) < 1e-6,
+                "{}: row {i} not uniformly spaced",
+                fx.name
+            );
+        }
+    }
+}
+
+#[test]
+fn saturated_liquid_matches_coolprop() {
+    let mut report =
+        String::from("fluid  P_sat     rho_l     cp_l      h_fg      k_l       mu_l\n");
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        let fx = Fixture::load(&format!("{n}.csv"));
+        assert!(fx.rows.len() >= MIN_ROWS, "{n}: fixture has too few rows");
+        let e = [
+            check_column(&fx, n, "P_sat", "psat_pa", TOL_PSAT, |t| p.psat_pa(t)),
+            check_column(&fx, n, "rho_l", "rho_l_kg_m3", TOL_RHO, |t| {
+                p.rho_l_kg_per_m3(t)
+            }),
+            check_column(&fx, n, "c_p,l", "cp_l_j_kgk", TOL_CP, |t| {
+                p.cp_l_j_per_kg_k(t)
+            }),
+            check_column(&fx, n, "h_fg", "h_fg_j_kg", TOL_HFG, |t| p.h_fg_j_per_kg(t)),
+            check_column(&fx, n, "k_l", "k_l_w_mk", TOL_K_L, |t| p.k_l_w_per_m_k(t)),
+            check_column(&fx, n, "mu_l", "mu_l_pa_s", TOL_MU_L, |t| p.mu_l_pa_s(t)),
+        ];
+        report.push_str(&format!(
+            "{n:6} {:.2e}  {:.2e}  {:.2e}  {:.2e}  {:.2e}  {:.2e}\n",
+            e[0], e[1], e[2], e[3], e[4], e[5]
+        ));
+    }
+    println!("{report}");
+}
+
+#[test]
+fn vapour_power_laws_match_coolprop() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        let fx = Fixture::load(&format!("{n}_vapor.csv"));
+        assert!(fx.rows.len() >= MIN_ROWS, "{n}_vapor: too few rows");
+        let ek = check_column(&fx, n, "k_v", "k_w_mk", TOL_POWER_LAW, |t| {
+            p.k_v_w_per_m_k(t)
+        });
+        let em = check_column(&fx, n, "mu_v", "mu_pa_s", TOL_POWER_LAW, |t| p.mu_v_pa_s(t));
+        println!("{n} vapour: k {ek:.2e}, mu {em:.2e}");
+    }
+}
+
+#[test]
+fn helium_power_laws_match_coolprop() {
+    let fx = Fixture::load("GHe.csv");
+    assert!(fx.rows.len() >= MIN_ROWS, "GHe: too few rows");
+    let ek = check_column(&fx, "GHe", "k", "k_w_mk", TOL_POWER_LAW, |t| {
+        HELIUM.k_w_per_m_k(t)
+    });
+    let em = check_column(&fx, "GHe", "mu", "mu_pa_s", TOL_POWER_LAW, |t| {
+        HELIUM.mu_pa_s(t)
+    });
+    println!("GHe: k {ek:.2e}, mu {em:.2e}");
+}
+
+#[test]
+fn tsat_inverts_psat() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        let fx = Fixture::load(&format!("{n}.csv"));
+        let temps = fx.column("t_k").into_iter().chain(interior(p, 997));
+        for t in temps {
+            let back = p.tsat_k(p.psat_pa(t));
+            let e = rel(back, t);
+            assert!(
+                e <= 1e-10,
+                "{n} T_sat(P_sat(T)) at T = {t} K: {back} K, error {e:.3e}"
+            );
+        }
+        // and against CoolProp's own pressures: within the P_sat tolerance mapped to T
+        for (t, ps) in fx.column("t_k").into_iter().zip(fx.column("psat_pa")) {
+            let e = rel(p.tsat_k(ps), t);
+            assert!(
+                e <= 1e-3,
+                "{n} T_sat(P_sat,CoolProp) at T = {t} K: error {e:.3e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn tsat_clamps_outside_range() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        let p_lo = p.psat_pa(p.t_min_k);
+        let p_hi = p.psat_pa(p.t_max_k);
+        for pr in [
+            -1.0,
+            0.0,
+            f64::MIN_POSITIVE,
+            1e-300,
+            0.5 * p_lo,
+            p_lo,
+            f64::NEG_INFINITY,
+        ] {
+            assert_eq!(
+                p.tsat_k(pr),
+                p.t_min_k,
+                "{n} T_sat({pr}) must clamp to t_min"
+            );
+        }
+        for pr in [p_hi, 2.0 * p_hi, 1e300, f64::MAX, f64::INFINITY] {
+            assert_eq!(
+                p.tsat_k(pr),
+                p.t_max_k,
+                "{n} T_sat({pr}) must clamp to t_max"
+            );
+        }
+        assert!(p.tsat_k(f64::NAN).is_nan());
+    }
+}
+
+#[test]
+fn t_from_h_inverts_h() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        let below = (0..20).map(|i| p.t_min_k - 10.0 + 0.5 * i as f64);
+        let above = (0..20).map(|i| p.t_max_k + 0.1 + 5.0 * i as f64);
+        let temps = interior(p, 997)
+            .chain([p.t_min_k, p.t_max_k])
+            .chain(below)
+            .chain(above);
+        for t in temps {
+            let back = p.t_from_h_l_k(p.h_l_j_per_kg(t));
+            let e = rel(back, t);
+            assert!(
+                e <= 1e-10,
+                "{n} T(h_l(T)) at T = {t} K: {back} K, error {e:.3e}"
+            );
+        }
+        assert_eq!(p.h_l_j_per_kg(p.t_min_k), 0.0, "{n}: h_l(t_min) = 0");
+        assert!(p.t_from_h_l_k(f64::NAN).is_nan());
+    }
+}
+
+#[test]
+fn h_l_is_integral_of_cp() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        // derivative == c_p, inside and outside the range
+        let outside = [p.t_min_k - 3.0, p.t_max_k + 3.0];
+        for t in interior(p, 200).chain(outside) {
+            let d = fd(|t| p.h_l_j_per_kg(t), t, 1e-3);
+            let cp = p.cp_l_j_per_kg_k(t);
+            let e = rel(d, cp);
+            assert!(e <= 1e-8, "{n} dh_l/dT vs c_p at T = {t} K: error {e:.3e}");
+        }
+        // integral over the whole range, composite Simpson (exact to rounding for a
+        // degree-7 polynomial with this many panels)
+        let m = 2000;
+        let dt = (p.t_max_k - p.t_min_k) / m as f64;
+        let mut s = 0.0;
+        for i in 0..=m {
+            let w = if i == 0 || i == m {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            s += w * p.cp_l_j_per_kg_k(p.t_min_k + i as f64 * dt);
+        }
+        let integral = s * dt / 3.0;
+        let e = rel(p.h_l_j_per_kg(p.t_max_k), integral);
+        assert!(e <= 1e-10, "{n} h_l(t_max) vs ∫c_p dT: error {e:.3e}");
+        // strictly increasing
+        let mut prev = f64::NEG_INFINITY;
+        for t in
+            (0..=400).map(|i| p.t_min_k - 5.0 + i as f64 * (p.t_max_k - p.t_min_k + 10.0) / 400.0)
+        {
+            let h = p.h_l_j_per_kg(t);
+            assert!(h > prev, "{n} h_l not increasing at T = {t} K");
+            prev = h;
+        }
+    }
+}
+
+#[test]
+fn analytic_derivatives_match_finite_differences() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        let outside = [
+            p.t_min_k - 5.0,
+            p.t_min_k - 0.5,
+            p.t_max_k + 0.5,
+            p.t_max_k + 5.0,
+        ];
+        for t in interior(p, 300).chain(outside) {
+            let a = p.dpsat_dt_pa_per_k(t);
+            let d = fd(|t| p.psat_pa(t), t, 1e-3);
+            let e = rel(a, d);
+            assert!(
+                e <= 1e-6,
+                "{n} dP_sat/dT at T = {t} K: analytic {a:e}, FD {d:e}, error {e:.3e}"
+            );
+            assert!(a > 0.0, "{n} dP_sat/dT not positive at T = {t} K");
+        }
+        for t in interior(p, 300) {
+            let a = p.drho_l_dt(t);
+            let d = fd(|t| p.rho_l_kg_per_m3(t), t, 1e-3);
+            let e = rel(a, d);
+            assert!(
+                e <= 1e-6,
+                "{n} drho_l/dT at T = {t} K: analytic {a:e}, FD {d:e}, error {e:.3e}"
+            );
+        }
+        // clamped outside: zero slope, consistent with the constant value
+        for t in [p.t_min_k - 1.0, p.t_max_k + 1.0] {
+            assert_eq!(
+                p.drho_l_dt(t),
+                0.0,
+                "{n} drho_l/dT outside range at T = {t} K"
+            );
+        }
+    }
+}
+
+#[test]
+fn psat_extrapolation_is_continuous_monotonic_and_finite() {
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        // continuity of value and slope at both ends: the change across a tiny
+        // interval straddling the end is the one the slope predicts
+        for t in [p.t_min_k, p.t_max_k] {
+            let eps = 1e-7 * t;
+            let jump = p.psat_pa(t + eps) - p.psat_pa(t - eps);
+            let expected = 2.0 * eps * p.dpsat_dt_pa_per_k(t);
+            let e = rel(jump, expected);
+            assert!(e < 1e-4, "{n} P_sat not smooth at T = {t} K: error {e:.3e}");
+            let (a, b) = (p.dpsat_dt_pa_per_k(t - eps), p.dpsat_dt_pa_per_k(t + eps));
+            assert!(rel(a, b) < 1e-4, "{n} dP_sat/dT jump at T = {t} K");
+        }
+        // strictly increasing from 0 K to 3 T_crit
+        let mut prev = 0.0;
+        for i in 0..=3000 {
+            let t = i as f64 * 3.0 * p.t_crit_k / 3000.0;
+            let ps = p.psat_pa(t);
+            assert!(
+                ps.is_finite() && ps > prev,
+                "{n} P_sat not increasing at T = {t} K: {ps}"
+            );
+            prev = ps;
+        }
+    }
+}
+
+#[test]
+fn everything_is_total() {
+    let inputs = [
+        f64::MIN,
+        -1e300,
+        -1e6,
+        -300.0,
+        -1.0,
+        0.0,
+        f64::MIN_POSITIVE,
+        1e-300,
+        1.0,
+        4.0,
+        1e3,
+        1e6,
+        1e300,
+        f64::MAX,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for f in Fluid::ALL {
+        let p = f.props();
+        let n = f.name();
+        for &v in &inputs {
+            let finite = [
+                ("psat", p.psat_pa(v)),
+                ("dpsat_dt", p.dpsat_dt_pa_per_k(v)),
+                ("tsat", p.tsat_k(v)),
+                ("rho_l", p.rho_l_kg_per_m3(v)),
+                ("drho_l_dt", p.drho_l_dt(v)),
+                ("cp_l", p.cp_l_j_per_kg_k(v)),
+                ("h_fg", p.h_fg_j_per_kg(v)),
+                ("k_l", p.k_l_w_per_m_k(v)),
+                ("mu_l", p.mu_l_pa_s(v)),
+                ("k_v", p.k_v_w_per_m_k(v)),
+                ("mu_v", p.mu_v_pa_s(v)),
+            ];
+            for (name, r) in finite {
+                assert!(r.is_finite(), "{n} {name}({v:e}) = {r} is not finite");
+            }
+            for (name, r) in [
+                ("h_l", p.h_l_j_per_kg(v)),
+                ("t_from_h_l", p.t_from_h_l_k(v)),
+            ] {
+                assert!(!r.is_nan(), "{n} {name}({v:e}) is NaN");
+                if v.is_finite() && v.abs() < 1e250 {
+                    assert!(r.is_finite(), "{n} {name}({v:e}) = {r} is not finite");
+                }
+            }
+            assert!(p.psat_pa(v) > 0.0, "{n} psat({v:e}) not positive");
+            let t = p.tsat_k(v);
+            assert!(
+                t >= p.t_min_k && t <= p.t_max_k,
+                "{n} tsat({v:e}) = {t} out of range"
+            );
+        }
+        // NaN in, NaN out (documented), never a panic
+        let nan = f64::NAN;
+        let outs = [
+            p.psat_pa(nan),
+            p.dpsat_dt_pa_per_k(nan),
+            p.tsat_k(nan),
+            p.rho_l_kg_per_m3(nan),
+            p.drho_l_dt(nan),
+            p.cp_l_j_per_kg_k(nan),
+            p.h_l_j_per_kg(nan),
+            p.t_from_h_l_k(nan),
+            p.h_fg_j_per_kg(nan),
+            p.k_l_w_per_m_k(nan),
+            p.mu_l_pa_s(nan),
+            p.k_v_w_per_m_k(nan),
+            p.mu_v_pa_s(nan),
+        ];
+        assert!(
+            outs.iter().all(|r| r.is_nan()),
+            "{n}: NaN input must give NaN: {outs:?}"
+        );
+    }
+    for &v in &inputs {
+        let (k, mu) = (HELIUM.k_w_per_m_k(v), HELIUM.mu_pa_s(v));
+        assert!(k.is_finite() && k > 0.0, "helium k({v:e}) = {k}");
+        assert!(mu.is_finite() && mu > 0.0, "helium mu({v:e}) = {mu}");
+    }
+}

@@ -1,0 +1,220 @@
+#!/usr/bin/env python3
+"""Generate CoolProp reference fixtures for the `cryoslosh::fluids` fits.
+
+Writes, relative to the repository root (the parent of this script's folder,
+or ``--root DIR``):
+
+* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2}.csv`` -- saturated-liquid
+  properties (CoolProp ``Q=0``) at 121 temperatures spaced uniformly over the
+  usable range ``T_min = T_triple + 1 K`` .. ``T_max = 0.9 * T_crit``;
+* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2}_vapor.csv`` -- dilute-gas
+  thermal conductivity and viscosity on which the vapour power laws are
+  fitted: 61 temperatures spaced uniformly in ln T over ``T_min .. 400 K`` at
+  the fixed pressure ``P_fit = 0.5 * P_sat(T_min)`` (the largest "round" choice
+  at which the gas is single-phase over the whole range; at tank pressures the
+  dilute-gas transport properties differ from these only by the dense-gas
+  excess, see ``src/fluids/mod.rs``);
+* ``tests/fixtures/fluids/GHe.csv`` -- helium k and mu at 1 bar, 61
+  temperatures spaced uniformly in ln T over 5 .. 400 K (gaseous at 1 bar).
+
+Every file starts with ``#`` comment lines: the CoolProp version and git
+revision, the CoolProp fluid string, units, and ``# const name = value`` lines
+with the scalar constants that ``tools/fit_fluids.py`` copies into
+``src/fluids/table.rs`` (so the fit script needs only numpy, not CoolProp).
+
+Usage::
+
+    pip install CoolProp numpy
+    python3 tools/coolprop_fixtures.py          # then: python3 tools/fit_fluids.py
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import CoolProp
+import CoolProp.CoolProp as CP
+import numpy as np
+
+R_UNIVERSAL = 8.314462618  # J/(mol K), must match cryoslosh::fluids::R_UNIVERSAL
+
+# (file stem, CoolProp fluid string)
+PROPELLANTS = [
+    ("LH2", "Hydrogen"),
+    ("LOX", "Oxygen"),
+    ("LCH4", "Methane"),
+    ("LN2", "Nitrogen"),
+]
+N_LIQUID = 121  # rows per saturated-liquid fixture (uniform in T)
+N_VAPOR = 61  # rows per gas-phase fixture (uniform in ln T)
+T_VAPOR_MAX = 400.0  # K, top of the gas-phase fit range
+HE_T_MIN, HE_T_MAX, HE_P = 5.0, 400.0, 1.0e5  # helium range (K) and pressure (Pa)
+
+
+def fmt(v: float) -> str:
+    """12 significant digits: far below CoolProp's own uncertainty, keeps files small."""
+    return f"{v:.12g}"
+
+
+def version_lines(fluid: str) -> list[str]:
+    return [
+        f"# CoolProp {CoolProp.__version__} (git revision {CoolProp.__gitrevision__})",
+        f"# CoolProp fluid string: {fluid}",
+    ]
+
+
+def write(path: Path, header: list[str], columns: list[str], rows: list[list[float]]) -> None:
+    lines = header + [",".join(columns)]
+    for row in rows:
+        # Temperatures are written with repr() so T_min/T_max round-trip exactly.
+        lines.append(",".join([repr(float(row[0]))] + [fmt(v) for v in row[1:]]))
+    path.write_text("\n".join(lines) + "\n")
+    size = path.stat().st_size
+    print(f"wrote {path} ({len(rows)} rows, {size} bytes)")
+    if size >= 30_000:
+        raise SystemExit(f"{path} is {size} bytes, limit is 30 kB")
+
+
+def ideal_gas_cp_cv(fluid: str, t: float, molar_mass: float) -> tuple[float, float]:
+    """Ideal-gas cp0 from CoolProp (CP0MASS, at 1 Pa: pressure-independent);
+    cv0 = cp0 - R_u/M with cryoslosh's R_u so that cp - cv == R_specific exactly."""
+    cp0 = CP.PropsSI("CP0MASS", "T", t, "P", 1.0, fluid)
+    return cp0, cp0 - R_UNIVERSAL / molar_mass
+
+
+def propellant(root: Path, stem: str, fluid: str) -> None:
+    m = CP.PropsSI("molar_mass", fluid)
+    t_triple = CP.PropsSI("Ttriple", fluid)
+    t_crit = CP.PropsSI("Tcrit", fluid)
+    p_crit = CP.PropsSI("pcrit", fluid)
+    t_min = t_triple + 1.0
+    t_max = 0.9 * t_crit
+    t_mid = 0.5 * (t_min + t_max)
+    cp0, cv0 = ideal_gas_cp_cv(fluid, t_mid, m)
+
+    consts = [
+        ("molar_mass_kg_per_mol", m),
+        ("t_triple_k", t_triple),
+        ("t_crit_k", t_crit),
+        ("p_crit_pa", p_crit),
+        ("t_min_k", t_min),
+        ("t_max_k", t_max),
+        ("cp_vapor_j_per_kg_k", cp0),
+        ("cv_vapor_j_per_kg_k", cv0),
+    ]
+    const_lines = [f"# const {k} = {v!r}" for k, v in consts]
+
+    # --- saturated liquid -------------------------------------------------
+    ts = np.linspace(t_min, t_max, N_LIQUID)
+    ts[0], ts[-1] = t_min, t_max
+    rows = []
+    for t in ts:
+        t = float(t)
+        p = CP.PropsSI("P", "T", t, "Q", 0, fluid)
+        rho = CP.PropsSI("D", "T", t, "Q", 0, fluid)
+        cp = CP.PropsSI("C", "T", t, "Q", 0, fluid)
+        h_fg = CP.PropsSI("H", "T", t, "Q", 1, fluid) - CP.PropsSI("H", "T", t, "Q", 0, fluid)
+        k = CP.PropsSI("L", "T", t, "Q", 0, fluid)
+        mu = CP.PropsSI("V", "T", t, "Q", 0, fluid)
+        vals = [t, p, rho, cp, h_fg, k, mu]
+        if not all(math.isfinite(v) and v > 0 for v in vals):
+            raise SystemExit(f"{fluid}: bad CoolProp value at T={t}: {vals}")
+        rows.append(vals)
+    header = [
+        f"# cryoslosh saturated-liquid fixture for {stem}, generated by tools/coolprop_fixtures.py",
+        *version_lines(fluid),
+        "# Saturated liquid (Q=0) along the saturation curve, "
+        f"{N_LIQUID} rows uniform in T over [t_min_k, t_max_k]",
+        "# t_min_k = t_triple_k + 1 K, t_max_k = 0.9 * t_crit_k; h_fg = H(Q=1) - H(Q=0)",
+        "# cp/cv_vapor: ideal-gas CP0MASS at (t_min_k+t_max_k)/2; cv = cp - 8.314462618/M",
+        "# units: t_k [K], psat_pa [Pa], rho_l_kg_m3 [kg/m^3], cp_l_j_kgk [J/(kg K)], "
+        "h_fg_j_kg [J/kg], k_l_w_mk [W/(m K)], mu_l_pa_s [Pa s]",
+        *const_lines,
+    ]
+    cols = ["t_k", "psat_pa", "rho_l_kg_m3", "cp_l_j_kgk", "h_fg_j_kg", "k_l_w_mk", "mu_l_pa_s"]
+    write(root / f"{stem}.csv", header, cols, rows)
+
+    # --- dilute gas for the vapour power laws ----------------------------
+    p_fit = 0.5 * CP.PropsSI("P", "T", t_min, "Q", 0, fluid)
+    gas(
+        root / f"{stem}_vapor.csv",
+        stem,
+        fluid,
+        t_min,
+        T_VAPOR_MAX,
+        p_fit,
+        "P_fit = 0.5 * P_sat(t_min_k): single-phase gas over the whole range",
+        [("fit_t_min_k", t_min), ("fit_t_max_k", T_VAPOR_MAX), ("fit_p_pa", p_fit)],
+    )
+
+
+def gas(
+    path: Path,
+    stem: str,
+    fluid: str,
+    t_lo: float,
+    t_hi: float,
+    p: float,
+    why: str,
+    consts: list[tuple[str, float]],
+) -> None:
+    ts = np.exp(np.linspace(math.log(t_lo), math.log(t_hi), N_VAPOR))
+    ts[0], ts[-1] = t_lo, t_hi
+    rows = []
+    for t in ts:
+        t = float(t)
+        phase = CP.PhaseSI("T", t, "P", p, fluid)
+        if phase not in ("gas", "supercritical_gas", "supercritical"):
+            raise SystemExit(f"{fluid}: not gaseous at T={t} K, P={p} Pa ({phase})")
+        k = CP.PropsSI("L", "T", t, "P", p, fluid)
+        mu = CP.PropsSI("V", "T", t, "P", p, fluid)
+        rows.append([t, p, k, mu])
+    header = [
+        f"# cryoslosh gas-phase transport fixture for {stem}, generated by tools/coolprop_fixtures.py",
+        *version_lines(fluid),
+        f"# Single-phase gas at fixed pressure, {N_VAPOR} rows uniform in ln T over "
+        f"[{t_lo!r}, {t_hi!r}] K; {why}",
+        "# units: t_k [K], p_pa [Pa], k_w_mk [W/(m K)], mu_pa_s [Pa s]",
+        *[f"# const {k} = {v!r}" for k, v in consts],
+    ]
+    write(path, header, ["t_k", "p_pa", "k_w_mk", "mu_pa_s"], rows)
+
+
+def helium(root: Path) -> None:
+    fluid = "Helium"
+    m = CP.PropsSI("molar_mass", fluid)
+    cp0, cv0 = ideal_gas_cp_cv(fluid, 300.0, m)
+    gas(
+        root / "GHe.csv",
+        "GHe",
+        fluid,
+        HE_T_MIN,
+        HE_T_MAX,
+        HE_P,
+        "1 bar (helium boils at 4.22 K at 1 bar)",
+        [
+            ("molar_mass_kg_per_mol", m),
+            ("cp_j_per_kg_k", cp0),
+            ("cv_j_per_kg_k", cv0),
+            ("fit_t_min_k", HE_T_MIN),
+            ("fit_t_max_k", HE_T_MAX),
+            ("fit_p_pa", HE_P),
+        ],
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--root", type=Path, default=Path(__file__).resolve().parent.parent)
+    args = ap.parse_args()
+    out = args.root / "tests" / "fixtures" / "fluids"
+    out.mkdir(parents=True, exist_ok=True)
+    for stem, fluid in PROPELLANTS:
+        propellant(out, stem, fluid)
+    helium(out)
+
+
+if __name__ == "__main__":
+    main()

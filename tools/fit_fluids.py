@@ -1,0 +1,328 @@
+#!/usr/bin/env python3
+"""Fit the `cryoslosh::fluids` coefficient table from the CoolProp fixtures.
+
+Reads ``tests/fixtures/fluids/*.csv`` (written by ``tools/coolprop_fixtures.py``)
+and writes ``src/fluids/table.rs``, relative to the repository root (the parent
+of this script's folder, or ``--root DIR``). Needs only numpy.
+
+Fit forms (see ``src/fluids/mod.rs`` for the evaluation side):
+
+* Liquid side: one degree-7 polynomial (exactly 8 monomial coefficients,
+  constant term first, for Horner) in ``x = (T - T_mid) / T_half`` for each of
+  ln P_sat, rho_l, c_p_l, h_fg, k_l and ln mu_l. Solved in the Chebyshev basis
+  (well conditioned), then converted to monomials. The objective is the
+  maximum relative error at the fixture rows (the absolute error of ln P and
+  ln mu), minimised by Lawson's iteratively re-weighted least squares started
+  from the weighted least-squares solution.
+* Vapour / helium: power laws ``y = y_ref (T / t_ref)^n`` with
+  ``t_ref = sqrt(T_lo T_hi)`` of the gas fixture's range, fitted for minimax
+  relative error (exact for a fixed exponent, golden-section search on n).
+
+The script checks that ln P_sat is strictly increasing and c_p_l positive on
+[-1, 1], prints the max relative error per fluid and property (also with a
+hold-out fit on every other row, and for an f32 Horner evaluation such as the
+WGSL backend performs), and refuses to write the table if any error exceeds
+the accuracy contract of ``tests/fluids.rs``.
+
+Usage::
+
+    python3 tools/coolprop_fixtures.py   # needs CoolProp
+    python3 tools/fit_fluids.py
+    cargo test --test fluids
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+from numpy.polynomial import chebyshev as C
+
+NCOEF = 8
+PROPELLANTS = [
+    ("LH2", "Lh2", "Liquid hydrogen (CoolProp `Hydrogen`: normal hydrogen, 75 % ortho)"),
+    ("LOX", "Lox", "Liquid oxygen (CoolProp `Oxygen`)"),
+    ("LCH4", "Lch4", "Liquid methane (CoolProp `Methane`)"),
+    ("LN2", "Ln2", "Liquid nitrogen (CoolProp `Nitrogen`)"),
+]
+# property key -> (csv column, fitted in log?, contract tolerance as relative error)
+LIQUID = {
+    "ln_psat": ("psat_pa", True, 0.005),
+    "rho_l": ("rho_l_kg_m3", False, 0.01),
+    "cp_l": ("cp_l_j_kgk", False, 0.02),
+    "h_fg": ("h_fg_j_kg", False, 0.01),
+    "k_l": ("k_l_w_mk", False, 0.03),
+    "ln_mu_l": ("mu_l_pa_s", True, 0.03),
+}
+POWER_LAW_TOL = 0.15
+
+
+# ---------------------------------------------------------------- reading ---
+def read_csv(path: Path) -> tuple[dict[str, float], list[str], dict[str, np.ndarray], str]:
+    consts: dict[str, float] = {}
+    version = ""
+    header: list[str] | None = None
+    rows: list[list[float]] = []
+    for line in path.read_text().splitlines():
+        line = line.strip()
+        if not line:
+            continue
+        if line.startswith("#"):
+            m = re.match(r"#\s*const\s+(\w+)\s*=\s*(\S+)", line)
+            if m:
+                consts[m.group(1)] = float(m.group(2))
+            m = re.match(r"#\s*(CoolProp \S+ \(git revision \w+\))", line)
+            if m:
+                version = m.group(1)
+            continue
+        if header is None:
+            header = line.split(",")
+            continue
+        rows.append([float(v) for v in line.split(",")])
+    if header is None or not rows:
+        raise SystemExit(f"{path}: no data")
+    data = np.array(rows)
+    return consts, header, {h: data[:, i] for i, h in enumerate(header)}, version
+
+
+# ---------------------------------------------------------------- fitting ---
+def fit_poly(x: np.ndarray, y: np.ndarray, log: bool) -> np.ndarray:
+    """Degree-7 fit minimising max relative error; returns 8 monomial coefficients."""
+    target = np.log(y) if log else y
+    scale = np.ones_like(y) if log else 1.0 / np.abs(y)  # error -> relative
+    V = C.chebvander(x, NCOEF - 1) * scale[:, None]
+    b = target * scale
+
+    def solve(w: np.ndarray) -> np.ndarray:
+        sw = np.sqrt(w)
+        c, *_ = np.linalg.lstsq(V * sw[:, None], b * sw, rcond=None)
+        return c
+
+    w = np.full(len(x), 1.0 / len(x))
+    best = solve(w)
+    best_err = np.max(np.abs(V @ best - b))
+    for _ in range(400):  # Lawson iterations
+        c = solve(w)
+        e = np.abs(V @ c - b)
+        if e.max() < best_err:
+            best, best_err = c, e.max()
+        w = w * e
+        s = w.sum()
+        if not np.isfinite(s) or s == 0.0:
+            break
+        w /= s
+    mono = C.cheb2poly(best)
+    out = np.zeros(NCOEF)
+    out[: len(mono)] = mono
+    return out
+
+
+def horner(c: np.ndarray, x: np.ndarray) -> np.ndarray:
+    acc = np.full_like(x, c[-1])
+    for a in c[-2::-1]:
+        acc = acc * x + a
+    return acc
+
+
+def rel_err(c: np.ndarray, x: np.ndarray, y: np.ndarray, log: bool, dtype=np.float64) -> float:
+    v = horner(c.astype(dtype), x.astype(dtype)).astype(np.float64)
+    if log:
+        v = np.exp(v)
+    return float(np.max(np.abs(v / y - 1.0)))
+
+
+def fit_power_law(t: np.ndarray, y: np.ndarray, t_ref: float) -> tuple[float, float, float]:
+    """Minimax relative error power law: returns (y_ref, exponent, max rel error)."""
+    lt = np.log(t / t_ref)
+
+    def for_n(n: float) -> tuple[float, float]:
+        q = np.exp(n * lt) / y  # fit / data ratio for y_ref = 1
+        a = 2.0 / (q.max() + q.min())  # equalises the over- and under-shoot
+        return a, (q.max() - q.min()) / (q.max() + q.min())
+
+    grid = np.linspace(-1.0, 3.0, 4001)
+    errs = [for_n(n)[1] for n in grid]
+    i = int(np.argmin(errs))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(200):
+        m1, m2 = hi - g * (hi - lo), lo + g * (hi - lo)
+        if for_n(m1)[1] < for_n(m2)[1]:
+            hi = m2
+        else:
+            lo = m1
+    n = 0.5 * (lo + hi)
+    a, _ = for_n(n)
+    err = float(np.max(np.abs(a * np.exp(n * lt) / y - 1.0)))
+    return float(a), float(n), err
+
+
+# ---------------------------------------------------------------- output ----
+def lit(v: float) -> str:
+    """Shortest round-trip f64 literal, valid Rust."""
+    s = repr(float(v))
+    if s in ("nan", "inf", "-inf"):
+        raise SystemExit(f"non-finite coefficient {s}")
+    s = s.replace("e+", "e")
+    if "." not in s and "e" not in s:
+        s += ".0"
+    return s
+
+
+def arr(name: str, c: np.ndarray) -> list[str]:
+    return [f"    {name}: ["] + [f"        {lit(v)}," for v in c] + ["    ],"]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--root", type=Path, default=Path(__file__).resolve().parent.parent)
+    args = ap.parse_args()
+    fix = args.root / "tests" / "fixtures" / "fluids"
+    out_path = args.root / "src" / "fluids" / "table.rs"
+
+    failures: list[str] = []
+    report: list[str] = []
+    blocks: list[str] = []
+    versions: set[str] = set()
+
+    for stem, _variant, desc in PROPELLANTS:
+        consts, _, col, version = read_csv(fix / f"{stem}.csv")
+        versions.add(version)
+        t = col["t_k"]
+        t_min, t_max = consts["t_min_k"], consts["t_max_k"]
+        t_mid, t_half = 0.5 * (t_min + t_max), 0.5 * (t_max - t_min)
+        x = (t - t_mid) / t_half
+        coefs: dict[str, np.ndarray] = {}
+        line = [f"{stem:5}"]
+        for key, (cname, log, tol) in LIQUID.items():
+            y = col[cname]
+            c = fit_poly(x, y, log)
+            coefs[key] = c
+            err = rel_err(c, x, y, log)
+            err32 = rel_err(c, x, y, log, np.float32)
+            ho = fit_poly(x[::2], y[::2], log)
+            err_ho = rel_err(ho, x[1::2], y[1::2], log)
+            line.append(f"{key}={err:.2e} (holdout {err_ho:.2e}, f32 {err32:.2e})")
+            if err > tol:
+                failures.append(f"{stem} {key}: {err:.3e} > {tol}")
+        report.append("  ".join(line))
+
+        # sanity of the shapes the Rust side relies on
+        xs = np.linspace(-1.0, 1.0, 20001)
+        dl = horner(np.polynomial.polynomial.polyder(coefs["ln_psat"]), xs)
+        if not np.all(dl > 0.0):
+            failures.append(f"{stem}: ln P_sat fit not strictly increasing on [-1, 1]")
+        if not np.all(horner(coefs["cp_l"], xs) > 0.0):
+            failures.append(f"{stem}: c_p fit not positive on [-1, 1]")
+        for key in ("rho_l", "h_fg", "k_l"):
+            if not np.all(horner(coefs[key], xs) > 0.0):
+                failures.append(f"{stem}: {key} fit not positive on [-1, 1]")
+
+        vconsts, _, vcol, version = read_csv(fix / f"{stem}_vapor.csv")
+        versions.add(version)
+        t_lo, t_hi = vconsts["fit_t_min_k"], vconsts["fit_t_max_k"]
+        t_ref = math.sqrt(t_lo * t_hi)
+        k_ref, k_exp, k_err = fit_power_law(vcol["t_k"], vcol["k_w_mk"], t_ref)
+        mu_ref, mu_exp, mu_err = fit_power_law(vcol["t_k"], vcol["mu_pa_s"], t_ref)
+        report.append(f"{stem:5} vapour k={k_err:.3e} (n={k_exp:.4f})  mu={mu_err:.3e} (n={mu_exp:.4f})")
+        for nm, e in (("k_v", k_err), ("mu_v", mu_err)):
+            if e > POWER_LAW_TOL:
+                failures.append(f"{stem} {nm}: {e:.3e} > {POWER_LAW_TOL}")
+
+        b = [
+            f"/// {desc}: constants and fit coefficients.",
+            "///",
+            f"/// Usable range {t_min:.3f} .. {t_max:.3f} K; vapour power laws fitted over "
+            f"{t_lo:.3f} .. {t_hi:.1f} K at {vconsts['fit_p_pa']:.6g} Pa.",
+            f"/// Max relative error at the fixture rows: P_sat {rel_err(coefs['ln_psat'], x, col['psat_pa'], True):.1e}, "
+            f"rho_l {rel_err(coefs['rho_l'], x, col['rho_l_kg_m3'], False):.1e}, "
+            f"c_p {rel_err(coefs['cp_l'], x, col['cp_l_j_kgk'], False):.1e},",
+            f"/// h_fg {rel_err(coefs['h_fg'], x, col['h_fg_j_kg'], False):.1e}, "
+            f"k_l {rel_err(coefs['k_l'], x, col['k_l_w_mk'], False):.1e}, "
+            f"mu_l {rel_err(coefs['ln_mu_l'], x, col['mu_l_pa_s'], True):.1e}, "
+            f"k_v {k_err:.1e}, mu_v {mu_err:.1e}.",
+            f"pub const {stem}: FluidProps = FluidProps {{",
+            f"    molar_mass_kg_per_mol: {lit(consts['molar_mass_kg_per_mol'])},",
+            f"    t_triple_k: {lit(consts['t_triple_k'])},",
+            f"    t_crit_k: {lit(consts['t_crit_k'])},",
+            f"    p_crit_pa: {lit(consts['p_crit_pa'])},",
+            f"    t_min_k: {lit(t_min)},",
+            f"    t_max_k: {lit(t_max)},",
+            f"    cp_vapor_j_per_kg_k: {lit(consts['cp_vapor_j_per_kg_k'])},",
+            f"    cv_vapor_j_per_kg_k: {lit(consts['cv_vapor_j_per_kg_k'])},",
+            f"    k_vapor_ref_w_per_m_k: {lit(k_ref)},",
+            f"    k_vapor_exp: {lit(k_exp)},",
+            f"    mu_vapor_ref_pa_s: {lit(mu_ref)},",
+            f"    mu_vapor_exp: {lit(mu_exp)},",
+            f"    vapor_t_ref_k: {lit(t_ref)},",
+        ]
+        for key in LIQUID:
+            b += arr(key, coefs[key])
+        b.append("};")
+        blocks.append("\n".join(b))
+
+    hconsts, _, hcol, version = read_csv(fix / "GHe.csv")
+    versions.add(version)
+    h_ref_t = math.sqrt(hconsts["fit_t_min_k"] * hconsts["fit_t_max_k"])
+    hk_ref, hk_exp, hk_err = fit_power_law(hcol["t_k"], hcol["k_w_mk"], h_ref_t)
+    hm_ref, hm_exp, hm_err = fit_power_law(hcol["t_k"], hcol["mu_pa_s"], h_ref_t)
+    report.append(f"GHe   k={hk_err:.3e} (n={hk_exp:.4f})  mu={hm_err:.3e} (n={hm_exp:.4f})")
+    for nm, e in (("He k", hk_err), ("He mu", hm_err)):
+        if e > POWER_LAW_TOL:
+            failures.append(f"{nm}: {e:.3e} > {POWER_LAW_TOL}")
+    blocks.append(
+        "\n".join(
+            [
+                "/// Helium pressurant (CoolProp `Helium`): ideal-gas constants and power laws for k and",
+                f"/// mu fitted at {hconsts['fit_p_pa']:.6g} Pa over {hconsts['fit_t_min_k']:g} .. "
+                f"{hconsts['fit_t_max_k']:g} K (max relative error k {hk_err:.1e}, mu {hm_err:.1e}).",
+                "pub const HELIUM: GasProps = GasProps {",
+                f"    molar_mass_kg_per_mol: {lit(hconsts['molar_mass_kg_per_mol'])},",
+                f"    cp_j_per_kg_k: {lit(hconsts['cp_j_per_kg_k'])},",
+                f"    cv_j_per_kg_k: {lit(hconsts['cv_j_per_kg_k'])},",
+                f"    k_ref_w_per_m_k: {lit(hk_ref)},",
+                f"    k_exp: {lit(hk_exp)},",
+                f"    mu_ref_pa_s: {lit(hm_ref)},",
+                f"    mu_exp: {lit(hm_exp)},",
+                f"    t_ref_k: {lit(h_ref_t)},",
+                "};",
+            ]
+        )
+    )
+
+    print("\n".join(report))
+    if len(versions) != 1:
+        failures.append(f"fixtures from different CoolProp versions: {sorted(versions)}")
+    if failures:
+        raise SystemExit("not writing table.rs:\n  " + "\n  ".join(failures))
+
+    (version,) = versions
+    head = [
+        "//! Fluid-property coefficient table: GENERATED, do not edit by hand.",
+        "//!",
+        "//! Generated by `tools/fit_fluids.py` from the fixtures in `tests/fixtures/fluids/`,",
+        f"//! source data {version}.",
+        "//! To regenerate (needs `pip install CoolProp numpy`):",
+        "//!",
+        "//! ```text",
+        "//! python3 tools/coolprop_fixtures.py   # CoolProp -> tests/fixtures/fluids/*.csv",
+        "//! python3 tools/fit_fluids.py         # fixtures -> src/fluids/table.rs",
+        "//! ```",
+        "//!",
+        "//! Liquid-side arrays are monomial coefficients (constant term first) of degree-7",
+        "//! polynomials in `x = (T - T_mid) / T_half`, `T_mid = (t_min_k + t_max_k) / 2`,",
+        "//! `T_half = (t_max_k - t_min_k) / 2`; see [`super`] for how they are evaluated.",
+        "",
+        "use super::{FluidProps, GasProps};",
+    ]
+    text = "\n".join(head) + "\n\n" + "\n\n".join(blocks) + "\n"
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    out_path.write_text(text)
+    print(f"wrote {out_path}")
+
+
+if __name__ == "__main__":
+    main()
