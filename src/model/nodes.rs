@@ -117,7 +117,12 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
         .unwrap_or_else(|| thermal::h_stable_interface(&gas, x.a_ax, t_u - t_s, 0.5 * r_surf))
         + p.coupling.h_enhancement_w_per_m2_k_s * speed;
     let q_us = h_us * a_i * (t_u - t_s);
-    let h_sb = ht.h_sb_w_per_m2_k.unwrap_or(0.0) + p.coupling.h_enhancement_w_per_m2_k_s * speed;
+    // Stable (warm layer on top): conduction is carried by the layer's penetration growth, so the
+    // base coefficient is 0 unless set. Unstable (a layer cooled below the bulk by evaporation
+    // into helium): the dense layer overturns, Lloyd & Moran's unstable-plate correlation.
+    let h_sb = ht.h_sb_w_per_m2_k.unwrap_or(0.0)
+        + thermal::h_unstable_interface(&liq, x.a_ax, t_b - t_s, 0.5 * r_surf)
+        + p.coupling.h_enhancement_w_per_m2_k_s * speed;
     let q_sb = h_sb * a_i * (t_s - t_b);
 
     // Layer growth by conduction penetration: δ² = (π/4) α_eff t reproduces the surface
@@ -131,7 +136,9 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
     let m_mix = p.coupling.mixing * s[M_S] * speed * bulk_left;
 
     let b = boundary::boundary_flows(p, s, d, x);
-    let m_evap = evaporation(p, s, x, dt);
+    // Gas-side mass-transfer coefficient by the heat/mass analogy (Le ≈ 1): h_m = h / (ρ c_p).
+    let h_mass_m_s = h_us / (gas.rho * gas.cp);
+    let m_evap = evaporation(p, s, x, dt, h_mass_m_s);
     // Engine draws from the bulk, then from the layer once the bulk is gone.
     let (out_b, out_s) = (b.out_kg_s * bulk_left, b.out_kg_s * (1.0 - bulk_left));
 
@@ -208,14 +215,20 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
 
 /// Interfacial evaporation ṁ = K (P_sat(T_s) − P_v) (MODEL.md §4, [fix]: vapour partial pressure).
 ///
+/// K is the Schrage kinetic coefficient in series with gas-side diffusion through the helium:
+/// 1/K = 1/K_kin + x_He R_v T_u / (h_m A), with h_m the gas-side mass-transfer coefficient and
+/// x_He the helium mole fraction (Stefan flow: no diffusion resistance in pure vapour). Without
+/// it, evaporation into a helium ullage runs at the kinetic limit and freezes the surface.
+///
 /// A realistic K relaxes P_v onto P_sat(T_s) in milliseconds. The rate is taken linearly implicit
 /// over the step: ṁ = K Δp / (1 + dt K J), J = ∂(P_v − P_sat)/∂m = R_v T_u / V_u +
 /// P_sat'(T_s) h_fg / (m_s c_p), which is K Δp when K dt J ≪ 1 and the one-step relaxation of Δp
 /// when K dt J ≫ 1, keeping the explicit RK step stable at any K.
-pub fn evaporation(p: &Params, s: &State, x: &Derived, dt: f64) -> f64 {
+pub fn evaporation(p: &Params, s: &State, x: &Derived, dt: f64, h_mass_m_s: f64) -> f64 {
     let f = p.fluid.props();
     let t_s = x.t_layer_k;
-    let k = p
+    let rv = f.r_specific_j_per_kg_k();
+    let k_kin = p
         .heat_transfer
         .evaporation_coefficient_kg_per_s_pa
         .unwrap_or_else(|| {
@@ -226,8 +239,13 @@ pub fn evaporation(p: &Params, s: &State, x: &Derived, dt: f64) -> f64 {
                 t_s,
             )
         });
+    let moles_v = s[M_V] / f.molar_mass_kg_per_mol;
+    let moles_g = s[M_G] / HELIUM.molar_mass_kg_per_mol;
+    let x_he = moles_g / (moles_v + moles_g).max(1.0e-300);
+    let diffusion = x_he * rv * x.t_ullage_k / (h_mass_m_s * x.interface_area_m2).max(1.0e-300);
+    let k = 1.0 / (1.0 / k_kin + diffusion);
     let dp = f.psat_pa(t_s) - x.p_vapor_pa;
-    let j = f.r_specific_j_per_kg_k() * x.t_ullage_k / x.v_ullage_m3
+    let j = rv * x.t_ullage_k / x.v_ullage_m3
         + f.dpsat_dt_pa_per_k(t_s) * f.h_fg_j_per_kg(t_s)
             / (s[M_S].max(1.0e-9) * f.cp_l_j_per_kg_k(t_s));
     k * dp / (1.0 + dt * k * j)

@@ -47,6 +47,20 @@ pub fn h_stable_interface(p: &ConvectionProps, accel: f64, dt_k: f64, length_m: 
     (1.0 + 0.27 * ra.powf(0.25)) * p.k / length
 }
 
+/// Unstable horizontal interface (dense cold fluid above warm fluid): Nu = 0.15 Ra^(1/3)
+/// (Lloyd & Moran 1974; Incropera & DeWitt eq. 9.31), 0 for a stable (ΔT ≤ 0) configuration.
+/// `dt_unstable_k` is the temperature excess of the lower fluid. Length = A/P.
+pub fn h_unstable_interface(
+    p: &ConvectionProps,
+    accel: f64,
+    dt_unstable_k: f64,
+    length_m: f64,
+) -> f64 {
+    let length = length_m.max(1.0e-3);
+    let (ra, _) = rayleigh(p, accel, dt_unstable_k.max(0.0), length);
+    0.15 * ra.cbrt() * p.k / length
+}
+
 /// Schrage kinetic-theory interfacial coefficient K = A · 2σ/(2−σ) · sqrt(M / (2π R_u T)),
 /// kg/(s·Pa) (Schrage 1953; MODEL.md §4).
 pub fn schrage_coefficient(area_m2: f64, accommodation: f64, molar_mass: f64, t_k: f64) -> f64 {
