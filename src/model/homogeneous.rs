@@ -88,6 +88,7 @@ pub fn rhs(
     s: &State,
     d: &Drive,
     x: &Derived,
+    dt: f64,
     ds: &mut State,
 ) -> boundary::BoundaryFlows {
     let f = p.fluid.props();
@@ -123,8 +124,14 @@ pub fn rhs(
             p.tank.height_m() - x.level_m,
         )
     });
-    let q_wl = h_wl * a_wet * (x.t_wall_wet_k - t);
-    let q_wu = h_wu * a_dry * (x.t_wall_dry_k - t);
+    // The fluid's heat capacity is far larger than a wall node's: the wall side limits the step.
+    let c_wall = p.wall_areal_mass_kg_per_m2 * a_tot * p.wall_cp_j_per_kg_k;
+    let c_fluid = x.m_liquid_kg * liq.cp + m_u * f.cv_vapor_j_per_kg_k;
+    let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_fluid);
+    let ua_wu =
+        thermal::limited_conductance(h_wu * a_dry, dt, c_wall * (1.0 - x.wetted_share), c_fluid);
+    let q_wl = ua_wl * (x.t_wall_wet_k - t);
+    let q_wu = ua_wu * (x.t_wall_dry_k - t);
 
     // The M_V slot is unused here; the ullage composition comes from the equilibrium.
     let mut sv = *s;

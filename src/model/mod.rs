@@ -31,7 +31,7 @@ pub fn evaluate(p: &Params, s: &State, d: &Drive, dt: f64) -> Evaluation {
     let mut ds = [0.0; NS];
     let fluxes = match p.fidelity {
         Fidelity::Homogeneous => {
-            let b = homogeneous::rhs(p, s, d, &x, &mut ds);
+            let b = homogeneous::rhs(p, s, d, &x, dt, &mut ds);
             Fluxes {
                 boundary: b,
                 ..Default::default()

@@ -102,14 +102,20 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
     // the share of the wetted band it touches (MODEL.md §4): the layer the band between the
     // interface and its own depth, the bulk the rest. A single wall node at the bulk temperature
     // must not cool the warmer layer through that band, hence the flux split, not h (T_w − T_s).
-    let q_wl = h_wl * a_wet * (x.t_wall_wet_k - t_b);
+    let c_wall = p.wall_areal_mass_kg_per_m2 * a_tot * p.wall_cp_j_per_kg_k;
+    let c_bulk = s[M_B].max(1.0e-9) * liq.cp;
+    let c_gas = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
+    let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_bulk);
+    let q_wl = ua_wl * (x.t_wall_wet_k - t_b);
     let depth = x.v_layer_m3 / a_i;
     let a_ws = (a_wet - p.tank.wetted_area_m2(x.level_m - depth)).clamp(0.0, a_wet);
     let contact = a_ws / a_wet.max(1.0e-12);
     // Optionally the wall boundary layer lifts part of the bulk's share to the surface.
     let to_layer = contact + p.stratification.wall_heat_to_layer * (1.0 - contact);
     let (q_ws, q_wb) = (to_layer * q_wl, (1.0 - to_layer) * q_wl);
-    let q_wu = h_wu * a_dry * (x.t_wall_dry_k - t_u);
+    let ua_wu =
+        thermal::limited_conductance(h_wu * a_dry, dt, c_wall * (1.0 - x.wetted_share), c_gas);
+    let q_wu = ua_wu * (x.t_wall_dry_k - t_u);
 
     // Interface: ullage ↔ layer (stable, warm gas over cold liquid) and layer ↔ bulk.
     let h_us = ht

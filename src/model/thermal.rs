@@ -61,6 +61,13 @@ pub fn h_unstable_interface(
     0.15 * ra.cbrt() * p.k / length
 }
 
+/// Linearly implicit limiter for a stiff exchange between two heat capacities: the conductance
+/// `ua` (W/K) becomes ua / (1 + dt·ua·(1/C_a + 1/C_b)), so the exchanged heat never overshoots
+/// equilibrium within a step (a thin cryogenic wall relaxes in milliseconds). Exact as dt → 0.
+pub fn limited_conductance(ua: f64, dt: f64, c_a: f64, c_b: f64) -> f64 {
+    ua / (1.0 + dt * ua * (1.0 / c_a + 1.0 / c_b))
+}
+
 /// Schrage kinetic-theory interfacial coefficient K = A · 2σ/(2−σ) · sqrt(M / (2π R_u T)),
 /// kg/(s·Pa) (Schrage 1953; MODEL.md §4).
 pub fn schrage_coefficient(area_m2: f64, accommodation: f64, molar_mass: f64, t_k: f64) -> f64 {
