@@ -33,7 +33,7 @@ pub enum CampaignError {
         key: String,
         message: String,
     },
-    #[error("{file}: {key} = {value} is out of range: allowed {allowed}")]
+    #[error("{file}: {key} = {value} is not allowed: expected {allowed}")]
     Invalid {
         file: PathBuf,
         key: String,
@@ -81,7 +81,7 @@ impl Campaign {
         let file = path.to_path_buf();
         let mut doc: toml::Table = toml::from_str(text).map_err(|e| CampaignError::Syntax {
             file: file.clone(),
-            message: e.to_string(),
+            message: one_line(&e.to_string()),
         })?;
         for o in overrides {
             apply_override(&mut doc, o).map_err(|(key, message)| CampaignError::Override {
@@ -98,9 +98,17 @@ impl Campaign {
                 message: e.to_string(),
             })?
         };
-        let raw: RawCampaign = toml::from_str(&resolved).map_err(|e| CampaignError::Schema {
-            file: file.clone(),
-            message: one_line(&e.to_string()),
+        let raw: RawCampaign = toml::from_str(&resolved).map_err(|e| {
+            // With overrides the positions refer to the re-serialized text, not the file.
+            let whence = if overrides.is_empty() {
+                ""
+            } else {
+                " (after the --set overrides)"
+            };
+            CampaignError::Schema {
+                file: file.clone(),
+                message: format!("{}{whence}", one_line(&e.to_string())),
+            }
         })?;
         validate::validate(&raw, path, resolved)
     }

@@ -1,0 +1,195 @@
+//! The command line: `check` and `simulate` on shipped campaigns, and one test per class of bad
+//! input — exit code 2 and a message that names the key (DESIGN.md interface contract).
+
+mod common;
+use common::campaign_path;
+use std::process::{Command, Output};
+
+fn cryoslosh(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Runs `check` on the LH2 campaign with one override and expects exit 2 naming `needle`.
+fn rejects(set: &str, needle: &str) {
+    let path = campaign_path("lh2_upper_stage");
+    let o = cryoslosh(&["check", path.to_str().unwrap(), "--set", set]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "--set {set}: {err}");
+    assert!(
+        err.contains(needle),
+        "--set {set}: message does not name {needle}: {err}"
+    );
+    assert!(
+        err.contains("lh2_upper_stage.toml"),
+        "message does not name the file: {err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn out_of_range_values_name_key_and_range() {
+    rejects("tank.radius_m=-1", "tank.radius_m");
+    rejects("propellant.fill_fraction=1.5", "propellant.fill_fraction");
+    rejects("phases.1.duration_s=0", "phases.1.duration_s");
+    rejects("relief.reseat_pa=400000", "relief.reseat_pa");
+    let o = cryoslosh(&[
+        "check",
+        campaign_path("mhtb_selfpress").to_str().unwrap(),
+        "--set",
+        "propellant.fill_fraction=0.999",
+    ]);
+    assert!(
+        stderr(&o).contains("expected a finite number in [0.02, 0.98]"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn nan_and_infinity_are_rejected() {
+    rejects("tank.heat_leak_w=nan", "tank.heat_leak_w");
+    rejects("tank.heat_leak_w=inf", "tank.heat_leak_w");
+    rejects("ullage.pressure_pa=-inf", "ullage.pressure_pa");
+}
+
+#[test]
+fn unknown_keys_are_rejected() {
+    rejects("tank.heat_leek_w=40", "heat_leek_w");
+    rejects("phases.9.duration_s=1", "phases.9.duration_s");
+    rejects("campaign.seed=abc", "seed");
+}
+
+#[test]
+fn unknown_enumerations_are_rejected() {
+    rejects("propellant.fluid=LF2", "propellant.fluid");
+    rejects("tank.shape=torus", "tank.shape");
+    rejects("campaign.fidelity=cfd", "campaign.fidelity");
+    rejects("phases.0.kind=hover", "phases.0.kind");
+}
+
+#[test]
+fn broken_toml_and_missing_file_exit_2() {
+    let dir = std::env::temp_dir().join(format!("cryoslosh-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let broken = dir.join("broken.toml");
+    std::fs::write(&broken, "[tank\nradius_m = 1\n").unwrap();
+    let o = cryoslosh(&["check", broken.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("broken.toml") && stderr(&o).contains("invalid TOML"),
+        "{}",
+        stderr(&o)
+    );
+    let o = cryoslosh(&[
+        "simulate",
+        dir.join("nope.toml").to_str().unwrap(),
+        "--out",
+        dir.join("x.parquet").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("nope.toml"), "{}", stderr(&o));
+    assert!(
+        !dir.join("x.parquet").exists(),
+        "nothing is written on bad input"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn check_prints_the_resolved_nominal() {
+    let o = cryoslosh(&[
+        "check",
+        campaign_path("lh2_upper_stage").to_str().unwrap(),
+        "--set",
+        "tank.heat_leak_w=40",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("heat leak 40 W"), "{out}");
+    assert!(
+        out.contains("fidelity lumped") && out.contains("restart"),
+        "{out}"
+    );
+}
+
+#[test]
+fn simulate_writes_the_documented_history_columns() {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    let dir = std::env::temp_dir().join(format!("cryoslosh-sim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("h.parquet");
+    let o = cryoslosh(&[
+        "simulate",
+        campaign_path("lh2_upper_stage").to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "campaign.output_interval_s=60",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = String::from_utf8_lossy(&o.stdout);
+    for needle in [
+        "peak pressure",
+        "boil-off",
+        "min cavitation margin",
+        "max slosh angle",
+    ] {
+        assert!(
+            summary.contains(needle),
+            "summary lacks {needle}: {summary}"
+        );
+    }
+    let reader = SerializedFileReader::new(std::fs::File::open(&out).unwrap()).unwrap();
+    let meta = reader.metadata().file_metadata();
+    let names: Vec<String> = meta
+        .schema_descr()
+        .columns()
+        .iter()
+        .map(|c| c.name().to_string())
+        .collect();
+    for col in [
+        "time_s",
+        "pressure_pa",
+        "vapor_pressure_pa",
+        "ullage_temp_k",
+        "layer_temp_k",
+        "bulk_temp_k",
+        "wall_temp_k",
+        "liquid_mass_kg",
+        "fill_fraction",
+        "slosh_angle_rad",
+        "slosh_force_n",
+        "cavitation_margin_m",
+        "vented_kg",
+        "pressurant_used_kg",
+        "velocity_m_s",
+        "altitude_m",
+        "phase",
+    ] {
+        assert!(
+            names.iter().any(|n| n == col),
+            "missing column {col}: {names:?}"
+        );
+    }
+    let kv = meta.key_value_metadata().expect("file-level metadata");
+    let keys: Vec<&str> = kv.iter().map(|e| e.key.as_str()).collect();
+    for k in [
+        "cryoslosh.campaign",
+        "cryoslosh.seed",
+        "cryoslosh.shard",
+        "cryoslosh.backend",
+        "cryoslosh.version",
+    ] {
+        assert!(keys.contains(&k), "missing metadata {k}: {keys:?}");
+    }
+    // Total duration 3420 s sampled every 60 s plus phase ends.
+    assert!(meta.num_rows() >= 58, "{} rows", meta.num_rows());
+    std::fs::remove_dir_all(&dir).ok();
+}
