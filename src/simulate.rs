@@ -3,7 +3,7 @@
 
 use crate::campaign::Campaign;
 use crate::model::derive::{slosh_angle, Derived, Drive};
-use crate::model::flight::{Phase, G0};
+use crate::model::flight::G0;
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::*;
 use crate::model::{self, Evaluation};
@@ -390,18 +390,6 @@ pub fn simulate(c: &Campaign, p: &Params, mut history: Option<&mut History>) -> 
         }
     }
     tr.finish(p, t, &s, &last.derived, steps)
-}
-
-/// Re-exported for tests: the phase a time falls in.
-pub fn phase_at(phases: &[Phase], t: f64) -> Option<usize> {
-    let mut end = 0.0;
-    for (i, ph) in phases.iter().enumerate() {
-        end += ph.duration_s;
-        if t <= end {
-            return Some(i);
-        }
-    }
-    None
 }
 
 /// A short summary a designer reads at a glance.

@@ -1,7 +1,7 @@
 //! What crosses the tank boundary and the vehicle motion, shared by every thermal level:
 //! helium inflow, relief venting, engine draw, slosh and flight derivatives (MODEL.md §5, §7, §8).
 
-use super::derive::{slosh_angle, Derived, Drive};
+use super::derive::{Derived, Drive};
 use super::flight::{self, G0};
 use super::params::{Fidelity, Params};
 use super::state::*;
@@ -99,7 +99,6 @@ pub fn motion_rates(p: &Params, s: &State, d: &Drive, x: &Derived, ds: &mut Stat
     if let Some(ps) = p.pressurization {
         ds[P_FILT] = (x.p_ullage_pa - s[P_FILT]) / ps.derivative_filter_s;
     }
-    let _ = slosh_angle;
     force
 }
 

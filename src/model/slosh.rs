@@ -54,6 +54,10 @@ pub fn equivalent_cylinder(
 }
 
 /// Smooth-wall viscous damping ratio (Mikishev & Dorozhkin, via SP-106 eq. 4.7).
+#[expect(
+    clippy::approx_constant,
+    reason = "0.318 is the published empirical constant, not 1/π"
+)]
 /// `nu` kinematic viscosity m²/s, `r` radius m, `a_ax` axial acceleration m/s².
 pub fn wall_damping(nu: f64, r: f64, a_ax: f64, h_over_r: f64) -> f64 {
     let hr = h_over_r.max(MIN_DEPTH_RATIO);
