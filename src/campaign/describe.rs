@@ -21,12 +21,11 @@ pub fn describe(c: &Campaign) -> String {
     );
     let _ = writeln!(
         o,
-        "tank: {} R = {} m, L = {} m, volume {:.4} m³, height {:.4} m, wall {:.3} m² × {} kg/m², c_w {:.1} J/(kg·K)",
+        "tank: {} R = {} m, height {:.4} m, volume {:.4} m³, wall {:.3} m² × {} kg/m², c_w {:.1} J/(kg·K)",
         p.tank.shape().name(),
         p.tank.radius_m(),
-        p.tank.height_m() - if p.tank.shape().name() == "sphere" { p.tank.height_m() } else { 0.0 },
-        p.tank.volume_m3(),
         p.tank.height_m(),
+        p.tank.volume_m3(),
         p.tank.wall_area_m2(),
         p.wall_areal_mass_kg_per_m2,
         p.wall_cp_j_per_kg_k
