@@ -2,15 +2,20 @@
 //! stratification, slosh, pressurization, venting and suction margin (see MODEL.md).
 //!
 //! The CLI (`src/main.rs`) adds nothing this library cannot do: load a [`campaign::Campaign`],
-//! [`simulate::simulate`] an instance, write its history with [`history::write_history`].
+//! [`simulate::simulate`] an instance, write its history with [`history::write_history`], or run
+//! a dispersion campaign with [`montecarlo::run`] on an [`engine::Backend`].
 
 pub mod campaign;
+pub mod engine;
 pub mod fluids;
 pub mod geometry;
 pub mod history;
 pub mod model;
+pub mod montecarlo;
 pub mod output;
+pub mod sampling;
 pub mod simulate;
+pub mod stats;
 
 /// Crate version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

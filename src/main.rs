@@ -4,6 +4,8 @@
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cryoslosh::campaign::{Campaign, CampaignError};
+use cryoslosh::engine::{Backend, CpuEngine};
+use cryoslosh::montecarlo::{self, RunError, RunOptions, Shard};
 use cryoslosh::simulate::{self, History};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -36,9 +38,50 @@ enum Command {
         /// Output Parquet file.
         #[arg(long)]
         out: PathBuf,
+        /// Simulate instance I of the dispersion campaign (its sampled inputs) instead of the nominal.
+        #[arg(long)]
+        instance: Option<u64>,
         /// Override a scalar by its dotted key path (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+    },
+    /// Run a dispersion campaign: DIR/instances.parquet, DIR/statistics.parquet, DIR/run.json.
+    Run {
+        /// Campaign TOML file (its [dispersions] section says what varies).
+        campaign: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Instances in the whole campaign (default: campaign.instances).
+        #[arg(long)]
+        instances: Option<u64>,
+        /// Random seed (default: campaign.seed).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Backend: cpu, gpu or auto (auto uses the CPU until the GPU backend lands).
+        #[arg(long, default_value = "auto")]
+        backend: String,
+        /// Worker threads (0: one per core).
+        #[arg(long, default_value_t = 0)]
+        threads: usize,
+        /// Run only shard I of N (contiguous instance slices), e.g. 0/4.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Instances handed to the engine at a time (memory bound; results do not depend on it).
+        #[arg(long, default_value_t = 16_384)]
+        chunk_size: u64,
+        /// Override a scalar by its dotted key path (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+    /// Join shard directories of one campaign into DIR, equal to the unsharded run.
+    Merge {
+        /// Shard output directories.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
     },
 }
 
@@ -48,7 +91,13 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            if e.downcast_ref::<CampaignError>().is_some() {
+            let bad_input = e.downcast_ref::<CampaignError>().is_some()
+                || e.downcast_ref::<BadInput>().is_some()
+                || matches!(
+                    e.downcast_ref::<RunError>(),
+                    Some(RunError::Campaign(_) | RunError::Input(_))
+                );
+            if bad_input {
                 ExitCode::from(2)
             } else {
                 ExitCode::from(1)
@@ -57,6 +106,11 @@ fn main() -> ExitCode {
     }
 }
 
+/// A command-line value outside its allowed range (exit code 2).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct BadInput(String);
+
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Check { campaign, set } => {
@@ -64,13 +118,39 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             print!("{}", cryoslosh::campaign::describe(&c));
             Ok(())
         }
-        Command::Simulate { campaign, out, set } => {
-            let c = Campaign::load(&campaign, &set)?;
+        Command::Simulate {
+            campaign,
+            out,
+            instance,
+            set,
+        } => {
+            let nominal = Campaign::load(&campaign, &set)?;
+            let (c, label) = match instance {
+                None => (nominal, "nominal".to_string()),
+                Some(i) if i >= nominal.instances => {
+                    return Err(BadInput(format!(
+                        "--instance {i}: the campaign has {} instances (campaign.instances)",
+                        nominal.instances
+                    ))
+                    .into())
+                }
+                Some(i) => {
+                    let d = &nominal.dispersions;
+                    let values =
+                        montecarlo::plan::sample_inputs(d, nominal.seed, nominal.instances, i);
+                    for (input, v) in d.inputs.iter().zip(&values) {
+                        println!("{} = {v}", input.key);
+                    }
+                    let mut c = nominal.instance(&values)?;
+                    c.text = nominal.text.clone();
+                    (c, i.to_string())
+                }
+            };
             let mut h = History::default();
             let start = std::time::Instant::now();
             let q = simulate::simulate(&c, &c.params, Some(&mut h));
             let wall = start.elapsed().as_secs_f64();
-            let rows = cryoslosh::history::write_history(&out, &c, &h, "nominal")
+            let rows = cryoslosh::history::write_history(&out, &c, &h, &label)
                 .with_context(|| format!("writing {}", out.display()))?;
             println!("{}", simulate::describe_summary(&q));
             println!(
@@ -87,6 +167,61 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     q.diverged_reason.unwrap_or_default()
                 );
             }
+            Ok(())
+        }
+        Command::Run {
+            campaign,
+            out,
+            instances,
+            seed,
+            backend,
+            threads,
+            shard,
+            chunk_size,
+            set,
+        } => {
+            let c = Campaign::load(&campaign, &set)?;
+            let shard = match shard {
+                None => Shard::ALL,
+                Some(s) => Shard::parse(&s).ok_or_else(|| {
+                    BadInput(format!(
+                        "--shard {s}: expected I/N with 0 ≤ I < N, e.g. 0/4"
+                    ))
+                })?,
+            };
+            let backend = match backend.as_str() {
+                "cpu" | "auto" => Backend::Cpu(CpuEngine::new(threads)?),
+                "gpu" => return Err(BadInput(
+                    "--backend gpu: this build has no GPU backend yet; use --backend cpu (or auto)"
+                        .into(),
+                )
+                .into()),
+                other => {
+                    return Err(
+                        BadInput(format!("--backend {other}: expected cpu, gpu or auto")).into(),
+                    )
+                }
+            };
+            let opts = RunOptions {
+                out_dir: out,
+                instances: instances.unwrap_or(c.instances),
+                seed: seed.unwrap_or(c.seed),
+                shard,
+                chunk_size,
+                progress: true,
+            };
+            let report = montecarlo::run(&c, &backend, &opts)?;
+            print!("{}", montecarlo::summary_text(&report));
+            println!(
+                "wrote {}/{{instances,statistics}}.parquet and run.json",
+                opts.out_dir.display()
+            );
+            Ok(())
+        }
+        Command::Merge { dirs, out } => {
+            let report = montecarlo::merge(&dirs, &out)?;
+            print!("{}", montecarlo::summary_text(&report));
+            println!("merged {} shards into {}", dirs.len(), out.display());
             Ok(())
         }
     }

@@ -95,5 +95,34 @@ pub fn describe(c: &Campaign) -> String {
         "output every {} s; run: {} instances, seed {}",
         c.output_interval_s, c.instances, c.seed
     );
+    let d = &c.dispersions;
+    if !d.inputs.is_empty() {
+        let _ = writeln!(
+            o,
+            "dispersions: {} design, {} inputs, confidence {}, boil-off budget {:?} kg",
+            d.design.name(),
+            d.inputs.len(),
+            d.confidence,
+            d.boiloff_budget_kg
+        );
+        for i in &d.inputs {
+            let (lo, hi) = i.distribution.support();
+            let _ = writeln!(
+                o,
+                "  {} (column {}): {:?}, mean {:.6}, support [{lo}, {hi}]",
+                i.key,
+                i.column,
+                i.distribution,
+                i.distribution.mean()
+            );
+        }
+        for &(a, b, rho) in &d.correlations {
+            let _ = writeln!(
+                o,
+                "  correlated: {} ~ {} with ρ = {rho}",
+                d.inputs[a].key, d.inputs[b].key
+            );
+        }
+    }
     o
 }

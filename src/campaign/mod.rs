@@ -2,6 +2,7 @@
 //! [`Campaign`]. Errors name the file, the key path, the value and the allowed range.
 
 mod describe;
+pub mod dispersion;
 mod raw;
 mod table;
 mod validate;
@@ -60,6 +61,11 @@ pub struct Campaign {
     pub seed: u64,
     /// Initial slosh angle, rad (free-decay studies).
     pub initial_slosh_angle_rad: f64,
+    /// What varies between instances of `cryoslosh run`.
+    pub dispersions: dispersion::Dispersions,
+    /// The resolved document without `[dispersions]`: each instance applies its sampled values
+    /// to it and goes through the same validation as the nominal.
+    pub document: toml::Table,
 }
 
 impl Campaign {
@@ -110,8 +116,58 @@ impl Campaign {
                 message: format!("{}{whence}", one_line(&e.to_string())),
             }
         })?;
-        validate::validate(&raw, path, resolved)
+        let mut c = validate::validate(&raw, path, resolved)?;
+        doc.remove("dispersions");
+        if let Some(d) = &raw.dispersions {
+            let checker = validate::Checker { file: path };
+            c.dispersions = dispersion::validate(&checker, d, |key| is_numeric_key(&doc, key))?;
+        }
+        c.document = doc;
+        Ok(c)
     }
+
+    /// The campaign of one instance: `values[j]` set at `dispersions.inputs[j].key`, then
+    /// validated like the nominal. An error means the sample left a field's allowed range.
+    pub fn instance(&self, values: &[f64]) -> Result<Campaign, CampaignError> {
+        let mut doc = self.document.clone();
+        for (input, &v) in self.dispersions.inputs.iter().zip(values) {
+            set_number(&mut doc, &input.key, v).map_err(|(key, message)| {
+                CampaignError::Override {
+                    file: self.path.clone(),
+                    key,
+                    message,
+                }
+            })?;
+        }
+        let raw: RawCampaign =
+            toml::Value::Table(doc)
+                .try_into()
+                .map_err(|e: toml::de::Error| CampaignError::Schema {
+                    file: self.path.clone(),
+                    message: one_line(&e.to_string()),
+                })?;
+        let mut c = validate::validate(&raw, &self.path, String::new())?;
+        c.dispersions = dispersion::Dispersions::default();
+        Ok(c)
+    }
+}
+
+/// Whether `key` names a numeric scalar the schema accepts (present or defaulted).
+fn is_numeric_key(doc: &toml::Table, key: &str) -> bool {
+    let mut probe = doc.clone();
+    set_number(&mut probe, key, 1.0).is_ok()
+        && toml::Value::Table(probe).try_into::<RawCampaign>().is_ok()
+}
+
+/// Set a number at a key path: an integer when it is integral (integer fields need one; float
+/// fields accept it), else a float.
+fn set_number(doc: &mut toml::Table, key: &str, v: f64) -> Result<(), (String, String)> {
+    let value = if v.fract() == 0.0 && v.abs() < 9.0e15 {
+        toml::Value::Integer(v as i64)
+    } else {
+        toml::Value::Float(v)
+    };
+    apply_value(doc, key, value)
 }
 
 /// Flatten toml's multi-line diagnostic into one line that still carries the key and position.
@@ -136,13 +192,21 @@ fn parse_value(v: &str) -> toml::Value {
     }
 }
 
-/// Apply `a.b.0.c=value`: tables by key (created when missing), arrays by index (must exist).
-/// Unknown keys are caught afterwards by serde's `deny_unknown_fields`.
+/// Apply a `--set KEY=VALUE` string.
 fn apply_override(doc: &mut toml::Table, spec: &str) -> Result<(), (String, String)> {
     let (key, value) = spec
         .split_once('=')
         .ok_or_else(|| (spec.to_string(), "expected KEY=VALUE".to_string()))?;
-    let key = key.trim();
+    apply_value(doc, key.trim(), parse_value(value.trim()))
+}
+
+/// Set `a.b.0.c` to `value`: tables by key (created when missing), arrays by index (must exist).
+/// Unknown keys are caught afterwards by serde's `deny_unknown_fields`.
+fn apply_value(
+    doc: &mut toml::Table,
+    key: &str,
+    value: toml::Value,
+) -> Result<(), (String, String)> {
     let parts: Vec<&str> = key.split('.').collect();
     if parts.iter().any(|p| p.is_empty()) {
         return Err((key.to_string(), "empty segment in the key path".to_string()));
@@ -173,6 +237,6 @@ fn apply_override(doc: &mut toml::Table, spec: &str) -> Result<(), (String, Stri
     {
         return Err(fail("names a table or array; --set takes a scalar key"));
     }
-    *node = parse_value(value.trim());
+    *node = value;
     Ok(())
 }

@@ -25,6 +25,7 @@ pub struct RawCampaign {
     #[serde(default)]
     pub vehicle: RawVehicle,
     pub phases: Vec<RawPhase>,
+    pub dispersions: Option<super::dispersion::RawDispersions>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize)]

@@ -481,6 +481,8 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         instances: run.instances.unwrap_or(1000),
         seed: run.seed.unwrap_or(0),
         initial_slosh_angle_rad: initial_angle_rad,
+        dispersions: super::dispersion::Dispersions::default(),
+        document: toml::Table::new(),
     })
 }
 

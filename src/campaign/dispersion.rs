@@ -1,0 +1,258 @@
+//! The `[dispersions]` section: which campaign scalars vary, how, and under which design.
+//!
+//! Inputs name any numeric scalar of the campaign by its `--set` key path. Each instance's values
+//! come from (seed, instance index) alone, so results do not depend on threads or shards.
+
+use super::validate::Checker;
+use super::CampaignError;
+use crate::sampling::{Design, Distribution, MAX_SOBOL_DIMS};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDispersions {
+    pub design: Option<String>,
+    pub confidence: Option<f64>,
+    pub boiloff_budget_kg: Option<f64>,
+    #[serde(default)]
+    pub inputs: Vec<RawInput>,
+    #[serde(default)]
+    pub correlations: Vec<RawCorrelation>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawInput {
+    pub key: String,
+    pub distribution: String,
+    pub mean: Option<f64>,
+    pub std: Option<f64>,
+    pub lo: Option<f64>,
+    pub hi: Option<f64>,
+    pub mode: Option<f64>,
+    pub median: Option<f64>,
+    pub sigma: Option<f64>,
+    pub values: Option<Vec<f64>>,
+    pub weights: Option<Vec<f64>>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCorrelation {
+    pub keys: Vec<String>,
+    pub rho: f64,
+}
+
+/// One dispersed input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DispersedInput {
+    /// Campaign key path, e.g. `tank.heat_leak_w`.
+    pub key: String,
+    /// Column name in instances.parquet: the key path with `.` → `_` (SQL-friendly).
+    pub column: String,
+    pub distribution: Distribution,
+}
+
+/// The validated dispersion plan of a campaign.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dispersions {
+    pub design: Design,
+    /// Confidence level of exceedance intervals (Clopper–Pearson), e.g. 0.95.
+    pub confidence: f64,
+    /// Boil-off budget for the exceedance probability, kg.
+    pub boiloff_budget_kg: Option<f64>,
+    pub inputs: Vec<DispersedInput>,
+    /// Correlated pairs (index of the driving input, index of the driven input, ρ).
+    pub correlations: Vec<(usize, usize, f64)>,
+}
+
+impl Default for Dispersions {
+    fn default() -> Self {
+        Dispersions {
+            design: Design::MonteCarlo,
+            confidence: 0.95,
+            boiloff_budget_kg: None,
+            inputs: Vec::new(),
+            correlations: Vec::new(),
+        }
+    }
+}
+
+/// SQL-friendly column name of a key path.
+pub fn column_name(key: &str) -> String {
+    key.replace('.', "_")
+}
+
+fn distribution(c: &Checker, base: &str, r: &RawInput) -> Result<Distribution, CampaignError> {
+    let need = |name: &str, v: Option<f64>| {
+        v.ok_or_else(|| {
+            c.table_err(
+                &format!("{base}.{name}"),
+                "(missing)",
+                format!("a value: the {} distribution needs it", r.distribution),
+            )
+        })
+    };
+    Ok(match r.distribution.as_str() {
+        "normal" => Distribution::Normal {
+            mean: need("mean", r.mean)?,
+            std: need("std", r.std)?,
+        },
+        "truncated_normal" => Distribution::TruncatedNormal {
+            mean: need("mean", r.mean)?,
+            std: need("std", r.std)?,
+            lo: need("lo", r.lo)?,
+            hi: need("hi", r.hi)?,
+        },
+        "uniform" => Distribution::Uniform {
+            lo: need("lo", r.lo)?,
+            hi: need("hi", r.hi)?,
+        },
+        "lognormal" => Distribution::LogNormal {
+            median: need("median", r.median)?,
+            sigma: need("sigma", r.sigma)?,
+        },
+        "triangular" => Distribution::Triangular {
+            lo: need("lo", r.lo)?,
+            mode: need("mode", r.mode)?,
+            hi: need("hi", r.hi)?,
+        },
+        "choice" => Distribution::Choice {
+            values: r.values.clone().ok_or_else(|| {
+                c.table_err(
+                    &format!("{base}.values"),
+                    "(missing)",
+                    "a non-empty list of values",
+                )
+            })?,
+            weights: r.weights.clone().unwrap_or_default(),
+        },
+        other => {
+            return Err(c.table_err(
+                &format!("{base}.distribution"),
+                other,
+                "normal | truncated_normal | uniform | lognormal | triangular | choice",
+            ))
+        }
+    })
+}
+
+/// Validate the raw section. `known_scalar(key)` says whether a key path names a numeric scalar of
+/// the campaign (checked by the caller against the parsed document).
+pub(super) fn validate(
+    c: &Checker,
+    raw: &RawDispersions,
+    known_scalar: impl Fn(&str) -> bool,
+) -> Result<Dispersions, CampaignError> {
+    let design_name = raw.design.as_deref().unwrap_or("monte_carlo");
+    let design = Design::from_name(design_name).ok_or_else(|| {
+        c.table_err(
+            "dispersions.design",
+            design_name,
+            "monte_carlo | latin_hypercube | sobol | saltelli",
+        )
+    })?;
+    let confidence = raw.confidence.unwrap_or(0.95);
+    if !(confidence > 0.5 && confidence < 1.0) {
+        return Err(c.table_err("dispersions.confidence", confidence, "a number in (0.5, 1)"));
+    }
+    if let Some(b) = raw.boiloff_budget_kg {
+        if !(b.is_finite() && b >= 0.0) {
+            return Err(c.table_err("dispersions.boiloff_budget_kg", b, "a finite number ≥ 0"));
+        }
+    }
+    let mut inputs: Vec<DispersedInput> = Vec::new();
+    for (i, r) in raw.inputs.iter().enumerate() {
+        let base = format!("dispersions.inputs.{i}");
+        if !known_scalar(&r.key) {
+            return Err(c.table_err(
+                &format!("{base}.key"),
+                &r.key,
+                "the key path of a numeric scalar in this campaign",
+            ));
+        }
+        if r.key.starts_with("dispersions.") || r.key.starts_with("campaign.") {
+            return Err(c.table_err(
+                &format!("{base}.key"),
+                &r.key,
+                "a physical input (not a campaign.* or dispersions.* setting)",
+            ));
+        }
+        if inputs.iter().any(|x| x.key == r.key) {
+            return Err(c.table_err(&format!("{base}.key"), &r.key, "each key dispersed once"));
+        }
+        let dist = distribution(c, &base, r)?;
+        dist.validate().map_err(|e| {
+            c.table_err(&format!("{base}.{}", r.distribution), &r.key, e.to_string())
+        })?;
+        inputs.push(DispersedInput {
+            key: r.key.clone(),
+            column: column_name(&r.key),
+            distribution: dist,
+        });
+    }
+    let mut correlations = Vec::new();
+    for (i, r) in raw.correlations.iter().enumerate() {
+        let base = format!("dispersions.correlations.{i}");
+        if design == Design::Saltelli {
+            return Err(c.table_err(
+                &base,
+                "a correlation",
+                "independent inputs: Sobol indices assume them (use another design)",
+            ));
+        }
+        let idx = |k: &String| inputs.iter().position(|x| &x.key == k);
+        let (a, b) = match r.keys.as_slice() {
+            [ka, kb] => match (idx(ka), idx(kb)) {
+                (Some(a), Some(b)) if a != b => (a, b),
+                _ => {
+                    return Err(c.table_err(
+                        &format!("{base}.keys"),
+                        format!("{:?}", r.keys),
+                        "two different keys listed in dispersions.inputs",
+                    ))
+                }
+            },
+            _ => {
+                return Err(c.table_err(
+                    &format!("{base}.keys"),
+                    format!("{:?}", r.keys),
+                    "exactly two keys",
+                ))
+            }
+        };
+        if !(r.rho.is_finite() && r.rho.abs() < 1.0) {
+            return Err(c.table_err(&format!("{base}.rho"), r.rho, "a number in (−1, 1)"));
+        }
+        if correlations
+            .iter()
+            .any(|&(x, y, _)| [x, y].contains(&a) || [x, y].contains(&b))
+        {
+            return Err(c.table_err(
+                &format!("{base}.keys"),
+                format!("{:?}", r.keys),
+                "each input in at most one correlated pair",
+            ));
+        }
+        correlations.push((a, b, r.rho));
+    }
+    let dims = if design == Design::Saltelli {
+        2 * inputs.len()
+    } else {
+        inputs.len()
+    };
+    if matches!(design, Design::Sobol | Design::Saltelli) && dims > MAX_SOBOL_DIMS {
+        return Err(c.table_err(
+            "dispersions.inputs",
+            inputs.len(),
+            format!("at most {MAX_SOBOL_DIMS} Sobol dimensions ({dims} needed)"),
+        ));
+    }
+    Ok(Dispersions {
+        design,
+        confidence,
+        boiloff_budget_kg: raw.boiloff_budget_kg,
+        inputs,
+        correlations,
+    })
+}

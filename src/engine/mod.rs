@@ -1,0 +1,39 @@
+//! Backends that integrate blocks of instances. Every backend implements [`Engine`]; the
+//! [`Backend`] enum picks one.
+//!
+//! # Design
+//! Guaranteed: instance i's inputs and results depend only on (campaign, seed, total, i), so the
+//! CPU backend is bit-identical for any thread count, block size and shard split. Traded away (for
+//! now): the CPU backend integrates one instance per task with the scalar f64 model; lockstep SIMD
+//! lanes and the WGSL backend implement the same trait later.
+
+mod cpu;
+
+pub use cpu::CpuEngine;
+
+use crate::montecarlo::plan::{InstanceRecord, Plan};
+use std::ops::Range;
+
+/// A way to integrate instances.
+pub trait Engine {
+    /// Short name recorded in outputs ("cpu").
+    fn name(&self) -> &'static str;
+    /// What runs the instances, for run.json ("cpu: 2 threads").
+    fn device(&self) -> String;
+    /// Integrate the instances in `range`, returned in index order.
+    fn run_block(&self, plan: &Plan, range: Range<u64>) -> Vec<InstanceRecord>;
+}
+
+/// The backend chosen on the command line.
+pub enum Backend {
+    Cpu(CpuEngine),
+}
+
+impl Backend {
+    /// The engine behind the choice.
+    pub fn engine(&self) -> &dyn Engine {
+        match self {
+            Backend::Cpu(e) => e,
+        }
+    }
+}

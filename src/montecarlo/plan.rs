@@ -1,0 +1,81 @@
+//! One instance of a dispersion campaign: its sampled inputs and its quantities of interest.
+//! Instance i depends only on (campaign, seed, total instances, i).
+
+use crate::campaign::dispersion::Dispersions;
+use crate::campaign::Campaign;
+use crate::sampling::{correlate, unit_sample};
+use crate::simulate::{simulate, Summary};
+
+/// What every backend needs to integrate any instance of a campaign.
+#[derive(Clone, Copy, Debug)]
+pub struct Plan<'a> {
+    pub campaign: &'a Campaign,
+    pub seed: u64,
+    /// Instances in the whole campaign (all shards): Latin hypercube strata depend on it.
+    pub total: u64,
+}
+
+/// The result of one instance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InstanceRecord {
+    pub instance: u64,
+    /// Sampled values, in `dispersions.inputs` order.
+    pub inputs: Vec<f64>,
+    pub summary: Summary,
+    /// The sample left a field's allowed range: not integrated, excluded from statistics.
+    pub rejected: bool,
+}
+
+/// Sampled input values of instance `i` (inverse CDF of the design's unit samples, with the
+/// Gaussian copula applied to correlated pairs).
+pub fn sample_inputs(d: &Dispersions, seed: u64, total: u64, i: u64) -> Vec<f64> {
+    let k = d.inputs.len();
+    let mut u: Vec<f64> = (0..k)
+        .map(|j| unit_sample(d.design, seed, total, i, j, k))
+        .collect();
+    for &(a, b, rho) in &d.correlations {
+        u[b] = correlate(u[a], u[b], rho).1;
+    }
+    d.inputs
+        .iter()
+        .zip(&u)
+        .map(|(input, &uj)| input.distribution.quantile(uj))
+        .collect()
+}
+
+impl Plan<'_> {
+    /// Sample, build and integrate instance `i`.
+    pub fn run_instance(&self, i: u64) -> InstanceRecord {
+        let c = self.campaign;
+        let inputs = sample_inputs(&c.dispersions, self.seed, self.total, i);
+        if inputs.is_empty() {
+            let summary = simulate(c, &c.params, None);
+            return InstanceRecord {
+                instance: i,
+                inputs,
+                summary,
+                rejected: false,
+            };
+        }
+        match c.instance(&inputs) {
+            Ok(ci) => {
+                let summary = simulate(&ci, &ci.params, None);
+                InstanceRecord {
+                    instance: i,
+                    inputs,
+                    summary,
+                    rejected: false,
+                }
+            }
+            Err(e) => InstanceRecord {
+                instance: i,
+                inputs,
+                summary: Summary {
+                    diverged_reason: Some(e.to_string()),
+                    ..Summary::default()
+                },
+                rejected: true,
+            },
+        }
+    }
+}

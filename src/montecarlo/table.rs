@@ -1,0 +1,334 @@
+//! `instances.parquet`: one row per instance, written in fixed-size row groups so that the file's
+//! bytes do not depend on how the engine blocked the work (threads, block size, shard merge).
+
+use super::plan::InstanceRecord;
+use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
+use crate::simulate::Summary;
+use arrow_array::{Array, BooleanArray, Float64Array, UInt64Array};
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use parquet::arrow::ProjectionMask;
+use std::path::Path;
+
+/// Rows per row group of instances.parquet.
+pub const ROW_GROUP_ROWS: usize = 65_536;
+
+/// A QoI column: its name and how to read it from a [`Summary`].
+pub type Qoi = (&'static str, fn(&Summary) -> f64);
+
+/// f64 quantities of interest per instance, with how to read them from a [`Summary`]. Missing
+/// values (no engine draw: no cavitation margin) are NaN and skipped by the statistics.
+pub const QOI_F64: [Qoi; 18] = [
+    ("peak_pressure_pa", |q| q.peak_pressure_pa),
+    ("peak_pressure_time_s", |q| q.peak_pressure_time_s),
+    ("min_pressure_pa", |q| q.min_pressure_pa),
+    ("final_pressure_pa", |q| q.final_pressure_pa),
+    ("boiloff_kg", |q| q.boiloff_kg),
+    ("vented_kg", |q| q.vented_kg),
+    ("vented_vapor_kg", |q| q.vented_vapor_kg),
+    ("vented_helium_kg", |q| q.vented_helium_kg),
+    ("pressurant_used_kg", |q| q.pressurant_used_kg),
+    ("propellant_drawn_kg", |q| q.propellant_drawn_kg),
+    ("min_cavitation_margin_m", |q| {
+        q.min_cavitation_margin_m.unwrap_or(f64::NAN)
+    }),
+    ("min_cavitation_margin_pa", |q| {
+        q.min_cavitation_margin_pa.unwrap_or(f64::NAN)
+    }),
+    ("min_cavitation_margin_time_s", |q| {
+        q.min_cavitation_margin_time_s.unwrap_or(f64::NAN)
+    }),
+    ("max_slosh_angle_rad", |q| q.max_slosh_angle_rad),
+    ("peak_slosh_force_n", |q| q.peak_slosh_force_n),
+    ("peak_slosh_moment_n_m", |q| q.peak_slosh_moment_n_m),
+    ("final_stratification_k", |q| q.final_stratification_k),
+    ("final_time_s", |q| q.final_time_s),
+];
+
+/// Boolean flags per instance.
+pub const FLAGS: [&str; 4] = ["cavitation", "overpressure", "diverged", "rejected"];
+
+/// Column buffer of one kind.
+#[derive(Clone, Debug)]
+enum Buf {
+    F64(Vec<f64>),
+    U64(Vec<u64>),
+    Bool(Vec<bool>),
+}
+
+/// The schema: `instance`, the dispersed inputs, the f64 QoIs, `steps`, the flags.
+pub fn schema(input_columns: &[String]) -> Vec<ColumnSpec> {
+    let mut specs = vec![ColumnSpec::new("instance", ColumnKind::U64)];
+    specs.extend(
+        input_columns
+            .iter()
+            .map(|c| ColumnSpec::new(c.clone(), ColumnKind::F64)),
+    );
+    specs.extend(
+        QOI_F64
+            .iter()
+            .map(|(n, _)| ColumnSpec::new(*n, ColumnKind::F64)),
+    );
+    specs.push(ColumnSpec::new("steps", ColumnKind::U64));
+    specs.extend(FLAGS.iter().map(|n| ColumnSpec::new(*n, ColumnKind::Bool)));
+    specs
+}
+
+/// Buffers rows and writes them in row groups of exactly [`ROW_GROUP_ROWS`] (the last may be short).
+pub struct InstanceWriter {
+    writer: TableWriter,
+    bufs: Vec<Buf>,
+}
+
+impl InstanceWriter {
+    /// Create the temporary file for `path` with `metadata` as file-level key-value metadata.
+    pub fn create(
+        path: &Path,
+        input_columns: &[String],
+        metadata: Vec<(String, String)>,
+    ) -> Result<Self, OutputError> {
+        let specs = schema(input_columns);
+        let bufs = specs
+            .iter()
+            .map(|s| match s.kind {
+                ColumnKind::U64 => Buf::U64(Vec::new()),
+                ColumnKind::Bool => Buf::Bool(Vec::new()),
+                _ => Buf::F64(Vec::new()),
+            })
+            .collect();
+        Ok(InstanceWriter {
+            writer: TableWriter::create(path, specs, metadata)?,
+            bufs,
+        })
+    }
+
+    fn rows(&self) -> usize {
+        match &self.bufs[0] {
+            Buf::U64(v) => v.len(),
+            _ => 0,
+        }
+    }
+
+    /// Append one instance.
+    pub fn push(&mut self, r: &InstanceRecord) -> Result<(), OutputError> {
+        let q = &r.summary;
+        let nan_if_rejected = |v: f64| if r.rejected { f64::NAN } else { v };
+        let mut f64s = r
+            .inputs
+            .iter()
+            .copied()
+            .chain(QOI_F64.iter().map(|(_, get)| nan_if_rejected(get(q))));
+        let flags = [q.cavitation, q.overpressure, q.diverged, r.rejected];
+        let mut flag = flags.iter();
+        let mut first_u64 = true;
+        for b in &mut self.bufs {
+            match b {
+                Buf::U64(v) => {
+                    v.push(if first_u64 { r.instance } else { q.steps });
+                    first_u64 = false;
+                }
+                Buf::F64(v) => v.push(f64s.next().unwrap_or(f64::NAN)),
+                Buf::Bool(v) => v.push(*flag.next().unwrap_or(&false)),
+            }
+        }
+        if self.rows() >= ROW_GROUP_ROWS {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Append rows read back from another instances file (shard merge), same schema.
+    fn push_columns(&mut self, cols: &[Buf], rows: usize) -> Result<(), OutputError> {
+        for start in (0..rows).step_by(ROW_GROUP_ROWS) {
+            let end = (start + ROW_GROUP_ROWS).min(rows);
+            for (dst, src) in self.bufs.iter_mut().zip(cols) {
+                match (dst, src) {
+                    (Buf::F64(d), Buf::F64(s)) => d.extend_from_slice(&s[start..end]),
+                    (Buf::U64(d), Buf::U64(s)) => d.extend_from_slice(&s[start..end]),
+                    (Buf::Bool(d), Buf::Bool(s)) => d.extend_from_slice(&s[start..end]),
+                    _ => {}
+                }
+            }
+            while self.rows() >= ROW_GROUP_ROWS {
+                self.flush()?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Write up to one row group from the buffers.
+    fn flush(&mut self) -> Result<(), OutputError> {
+        let n = self.rows().min(ROW_GROUP_ROWS);
+        if n == 0 {
+            return Ok(());
+        }
+        {
+            let data: Vec<ColumnData> = self
+                .bufs
+                .iter()
+                .map(|b| match b {
+                    Buf::F64(v) => ColumnData::F64(&v[..n]),
+                    Buf::U64(v) => ColumnData::U64(&v[..n]),
+                    Buf::Bool(v) => ColumnData::Bool(&v[..n]),
+                })
+                .collect();
+            self.writer.write_chunk(&data)?;
+        }
+        for b in &mut self.bufs {
+            match b {
+                Buf::F64(v) => drop(v.drain(..n)),
+                Buf::U64(v) => drop(v.drain(..n)),
+                Buf::Bool(v) => drop(v.drain(..n)),
+            }
+        }
+        Ok(())
+    }
+
+    /// Write what is buffered and rename the file into place. Returns the rows written.
+    pub fn finish(mut self) -> Result<u64, OutputError> {
+        while self.rows() > 0 {
+            self.flush()?;
+        }
+        self.writer.finish()
+    }
+}
+
+/// Failure to read an instances file back.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("cannot read {path}: {message}")]
+    Parquet { path: String, message: String },
+    #[error("{path} has no column {column}")]
+    MissingColumn { path: String, column: String },
+}
+
+fn parquet_err(path: &Path, e: impl std::fmt::Display) -> ReadError {
+    ReadError::Parquet {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// File-level key-value metadata of an instances file.
+pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, ReadError> {
+    let file = std::fs::File::open(path).map_err(|e| parquet_err(path, e))?;
+    let builder =
+        ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| parquet_err(path, e))?;
+    Ok(builder
+        .metadata()
+        .file_metadata()
+        .key_value_metadata()
+        .map(|kv| {
+            kv.iter()
+                .map(|e| (e.key.clone(), e.value.clone().unwrap_or_default()))
+                .collect()
+        })
+        .unwrap_or_default())
+}
+
+/// Convert an arrow column to a buffer, appending to `out`.
+fn append_array(out: &mut Option<Buf>, col: &dyn Array) {
+    let any = col.as_any();
+    if let Some(a) = any.downcast_ref::<Float64Array>() {
+        if let Buf::F64(v) = out.get_or_insert(Buf::F64(Vec::new())) {
+            v.extend_from_slice(a.values());
+        }
+    } else if let Some(a) = any.downcast_ref::<UInt64Array>() {
+        if let Buf::U64(v) = out.get_or_insert(Buf::U64(Vec::new())) {
+            v.extend_from_slice(a.values());
+        }
+    } else if let Some(a) = any.downcast_ref::<BooleanArray>() {
+        if let Buf::Bool(v) = out.get_or_insert(Buf::Bool(Vec::new())) {
+            v.extend((0..a.len()).map(|i| a.value(i)));
+        }
+    }
+}
+
+/// Read one column, converting to the buffer kind of its arrow type.
+fn read_column(path: &Path, name: &str) -> Result<Buf, ReadError> {
+    let file = std::fs::File::open(path).map_err(|e| parquet_err(path, e))?;
+    let builder =
+        ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| parquet_err(path, e))?;
+    let idx = builder
+        .schema()
+        .fields()
+        .iter()
+        .position(|f| f.name() == name)
+        .ok_or_else(|| ReadError::MissingColumn {
+            path: path.display().to_string(),
+            column: name.to_string(),
+        })?;
+    let mask = ProjectionMask::roots(builder.parquet_schema(), [idx]);
+    let reader = builder
+        .with_projection(mask)
+        .build()
+        .map_err(|e| parquet_err(path, e))?;
+    let mut out: Option<Buf> = None;
+    for batch in reader {
+        let batch = batch.map_err(|e| parquet_err(path, e))?;
+        append_array(&mut out, batch.column(0).as_ref());
+    }
+    Ok(out.unwrap_or(Buf::F64(Vec::new())))
+}
+
+/// An f64 column of an instances file.
+pub fn read_f64(path: &Path, name: &str) -> Result<Vec<f64>, ReadError> {
+    match read_column(path, name)? {
+        Buf::F64(v) => Ok(v),
+        Buf::U64(v) => Ok(v.into_iter().map(|x| x as f64).collect()),
+        Buf::Bool(v) => Ok(v.into_iter().map(|x| f64::from(u8::from(x))).collect()),
+    }
+}
+
+/// A bool column of an instances file.
+pub fn read_bool(path: &Path, name: &str) -> Result<Vec<bool>, ReadError> {
+    match read_column(path, name)? {
+        Buf::Bool(v) => Ok(v),
+        Buf::F64(v) => Ok(v.into_iter().map(|x| x != 0.0).collect()),
+        Buf::U64(v) => Ok(v.into_iter().map(|x| x != 0).collect()),
+    }
+}
+
+/// A u64 column of an instances file.
+pub fn read_u64(path: &Path, name: &str) -> Result<Vec<u64>, ReadError> {
+    match read_column(path, name)? {
+        Buf::U64(v) => Ok(v),
+        Buf::F64(v) => Ok(v.into_iter().map(|x| x as u64).collect()),
+        Buf::Bool(v) => Ok(v.into_iter().map(u64::from).collect()),
+    }
+}
+
+/// Append every row of the instances file `src` (same schema as `w`) to `w`, one batch of
+/// [`ROW_GROUP_ROWS`] at a time so memory stays bounded.
+pub fn copy_rows(w: &mut InstanceWriter, src: &Path) -> Result<u64, MergeCopyError> {
+    let file = std::fs::File::open(src).map_err(|e| parquet_err(src, e))?;
+    let reader = ParquetRecordBatchReaderBuilder::try_new(file)
+        .map_err(|e| parquet_err(src, e))?
+        .with_batch_size(ROW_GROUP_ROWS)
+        .build()
+        .map_err(|e| parquet_err(src, e))?;
+    let mut total = 0u64;
+    for batch in reader {
+        let batch = batch.map_err(|e| parquet_err(src, e))?;
+        let cols: Vec<Buf> = batch
+            .columns()
+            .iter()
+            .map(|c| {
+                let mut b = None;
+                append_array(&mut b, c.as_ref());
+                b.unwrap_or(Buf::F64(Vec::new()))
+            })
+            .collect();
+        w.push_columns(&cols, batch.num_rows())?;
+        total += batch.num_rows() as u64;
+    }
+    Ok(total)
+}
+
+/// Failure while copying shard rows.
+#[derive(Debug, thiserror::Error)]
+pub enum MergeCopyError {
+    #[error(transparent)]
+    Read(#[from] ReadError),
+    #[error(transparent)]
+    Write(#[from] OutputError),
+}

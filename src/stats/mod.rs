@@ -1,0 +1,21 @@
+//! Campaign statistics: moments, percentiles, exceedance probabilities with
+//! Clopper–Pearson intervals, Spearman and Sobol sensitivities.
+//!
+//! After a Monte Carlo campaign every quantity of interest (QoI, e.g.
+//! `peak_pressure_pa`) is a column of `f64` values, one per instance. Diverged
+//! instances are excluded by the caller; missing values inside a column are
+//! encoded as NaN and are skipped here, with every result reporting `n`, the
+//! number of values actually used. The functions in this module are pure and
+//! never panic: degenerate inputs (empty columns, constant columns, mismatched
+//! lengths, invalid confidence levels) produce NaN rather than an error, so a
+//! single bad QoI never aborts the statistics of a whole campaign.
+//!
+//! Results are laid out as tidy [`StatRow`]s
+//! `(quantity, statistic, threshold, value, ci_low, ci_high, n)`, the row
+//! format of `statistics.parquet`.
+
+mod sensitivity;
+mod summary;
+
+pub use sensitivity::{sobol_indices, spearman, SobolIndices};
+pub use summary::{describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES};

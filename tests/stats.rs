@@ -1,0 +1,398 @@
+//! Tests of the campaign statistics module against hand-computed values,
+//! published tables and analytic sensitivity indices.
+
+use cryoslosh::stats::*;
+
+/// SplitMix64 (Steele, Lea & Flood 2014): tiny, seedable, good enough for
+/// test-side Monte Carlo.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1) with 53 random bits.
+    fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+fn stat(rows: &[StatRow], name: &str) -> StatRow {
+    rows.iter()
+        .find(|r| r.statistic == name)
+        .cloned()
+        .unwrap_or_else(|| panic!("missing statistic {name}"))
+}
+
+// ---------------------------------------------------------------- percentile
+
+#[test]
+fn percentile_type7_hand_values() {
+    let x = [1.0, 2.0, 3.0, 4.0];
+    // h = 3 p
+    assert_eq!(percentile(&x, 0.0), 1.0);
+    assert_eq!(percentile(&x, 1.0), 4.0);
+    assert!(close(percentile(&x, 0.5), 2.5, 1e-12)); // h = 1.5
+    assert!(close(percentile(&x, 0.25), 1.75, 1e-12)); // h = 0.75
+    assert!(close(percentile(&x, 0.9), 3.7, 1e-12)); // h = 2.7
+    assert!(close(percentile(&x, 1.0 / 3.0), 2.0, 1e-12)); // h = 1
+
+    let y = [-5.0, 0.0, 10.0];
+    // h = 2 p
+    assert!(close(percentile(&y, 0.25), -2.5, 1e-12)); // h = 0.5
+    assert!(close(percentile(&y, 0.75), 5.0, 1e-12)); // h = 1.5
+    assert!(close(percentile(&y, 0.99), 9.8, 1e-12)); // h = 1.98
+
+    // n = 1: every percentile is the single value.
+    for p in [0.0, 0.01, 0.5, 0.99, 1.0] {
+        assert_eq!(percentile(&[7.25], p), 7.25);
+    }
+    // Repeated values.
+    assert_eq!(percentile(&[2.0, 2.0, 2.0], 0.37), 2.0);
+}
+
+#[test]
+fn percentile_numpy_documented_example() {
+    // numpy.percentile docs: a = [[10, 7, 4], [3, 2, 1]]
+    // np.percentile(a, 50) -> 3.5
+    let mut flat = vec![10.0, 7.0, 4.0, 3.0, 2.0, 1.0];
+    flat.sort_by(f64::total_cmp);
+    assert!(close(percentile(&flat, 0.5), 3.5, 1e-12));
+    // np.percentile(a, 50, axis=0) -> [6.5, 4.5, 2.5]
+    assert!(close(percentile(&[3.0, 10.0], 0.5), 6.5, 1e-12));
+    assert!(close(percentile(&[2.0, 7.0], 0.5), 4.5, 1e-12));
+    assert!(close(percentile(&[1.0, 4.0], 0.5), 2.5, 1e-12));
+    // np.percentile(a, 50, axis=1) -> [7., 2.]
+    assert!(close(percentile(&[4.0, 7.0, 10.0], 0.5), 7.0, 1e-12));
+    assert!(close(percentile(&[1.0, 2.0, 3.0], 0.5), 2.0, 1e-12));
+}
+
+#[test]
+fn percentile_degenerate_inputs_are_nan() {
+    assert!(percentile(&[], 0.5).is_nan());
+    assert!(percentile(&[1.0, 2.0], -0.1).is_nan());
+    assert!(percentile(&[1.0, 2.0], 1.1).is_nan());
+    assert!(percentile(&[1.0, 2.0], f64::NAN).is_nan());
+}
+
+#[test]
+fn percentiles_constant_is_as_documented() {
+    let names: Vec<&str> = PERCENTILES.iter().map(|(n, _)| *n).collect();
+    assert_eq!(names, ["p01", "p05", "p50", "p95", "p99"]);
+    let ps: Vec<f64> = PERCENTILES.iter().map(|(_, p)| *p).collect();
+    assert_eq!(ps, [0.01, 0.05, 0.50, 0.95, 0.99]);
+}
+
+// ------------------------------------------------------------------ describe
+
+#[test]
+fn describe_one_to_hundred() {
+    let values: Vec<f64> = (1..=100).map(f64::from).collect();
+    let rows = describe("peak_pressure_pa", &values);
+    let names: Vec<&str> = rows.iter().map(|r| r.statistic.as_str()).collect();
+    assert_eq!(
+        names,
+        ["mean", "std", "min", "max", "p01", "p05", "p50", "p95", "p99"]
+    );
+    for r in &rows {
+        assert_eq!(r.quantity, "peak_pressure_pa");
+        assert_eq!(r.n, 100);
+        assert!(r.threshold.is_nan() && r.ci_low.is_nan() && r.ci_high.is_nan());
+    }
+    assert!(close(stat(&rows, "mean").value, 50.5, 1e-12));
+    assert!(close(stat(&rows, "std").value, 29.0115, 1e-4));
+    assert!(close(
+        stat(&rows, "std").value,
+        (10100.0f64 / 12.0).sqrt(),
+        1e-10
+    ));
+    assert_eq!(stat(&rows, "min").value, 1.0);
+    assert_eq!(stat(&rows, "max").value, 100.0);
+    assert!(close(stat(&rows, "p01").value, 1.99, 1e-10));
+    assert!(close(stat(&rows, "p05").value, 5.95, 1e-10));
+    assert!(close(stat(&rows, "p50").value, 50.5, 1e-10));
+    assert!(close(stat(&rows, "p95").value, 95.05, 1e-10));
+    assert!(close(stat(&rows, "p99").value, 99.01, 1e-10));
+}
+
+#[test]
+fn describe_skips_nan_and_infinite() {
+    let mut values: Vec<f64> = (1..=100).map(f64::from).collect();
+    // Shuffle-ish: interleave missing values, and order must not matter.
+    values.reverse();
+    values.insert(0, f64::NAN);
+    values.insert(37, f64::NAN);
+    values.push(f64::NAN);
+    values.insert(50, f64::INFINITY);
+    values.insert(10, f64::NEG_INFINITY);
+    let rows = describe("cavitation_margin_pa", &values);
+    for r in &rows {
+        assert_eq!(r.n, 100, "{}", r.statistic);
+    }
+    assert!(close(stat(&rows, "mean").value, 50.5, 1e-12));
+    assert!(close(stat(&rows, "std").value, 29.0115, 1e-4));
+    assert_eq!(stat(&rows, "min").value, 1.0);
+    assert_eq!(stat(&rows, "max").value, 100.0);
+    assert!(close(stat(&rows, "p99").value, 99.01, 1e-10));
+}
+
+#[test]
+fn describe_degenerate_columns() {
+    let rows = describe("q", &[f64::NAN, f64::NAN]);
+    assert_eq!(rows.len(), 9);
+    for r in &rows {
+        assert_eq!(r.n, 0);
+        assert!(r.value.is_nan(), "{}", r.statistic);
+    }
+    let rows = describe("q", &[3.0]);
+    assert_eq!(stat(&rows, "mean").value, 3.0);
+    assert!(stat(&rows, "std").value.is_nan());
+    assert_eq!(stat(&rows, "p99").value, 3.0);
+}
+
+// ---------------------------------------------------------------- exceedance
+
+/// `n` Bernoulli(p) draws encoded as 0/1 values, so that `exceedance(.., 0.5,
+/// Above, ..)` counts the successes.
+fn bernoulli_column(rng: &mut SplitMix64, p: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|_| if rng.uniform() < p { 1.0 } else { 0.0 })
+        .collect()
+}
+
+#[test]
+fn clopper_pearson_coverage() {
+    let mut rng = SplitMix64(0x00C0_FFEE_2024);
+    let experiments = 2000;
+    for &p in &[0.01, 0.05, 0.3] {
+        for &n in &[50usize, 200] {
+            let mut covered = 0;
+            for _ in 0..experiments {
+                let column = bernoulli_column(&mut rng, p, n);
+                let e = exceedance(&column, 0.5, Direction::Above, 0.95);
+                assert_eq!(e.n, n as u64);
+                assert!(e.ci_low <= e.p && e.p <= e.ci_high);
+                if e.ci_low <= p && p <= e.ci_high {
+                    covered += 1;
+                }
+            }
+            let coverage = f64::from(covered) / f64::from(experiments);
+            assert!(
+                (0.93..=1.0).contains(&coverage),
+                "p = {p}, n = {n}: coverage {coverage}"
+            );
+        }
+    }
+}
+
+#[test]
+fn clopper_pearson_zero_successes() {
+    for &n in &[1usize, 10, 50, 200, 1000] {
+        let column = vec![0.0; n];
+        let e = exceedance(&column, 0.5, Direction::Above, 0.95);
+        assert_eq!((e.k, e.n), (0, n as u64));
+        assert_eq!(e.p, 0.0);
+        assert_eq!(e.ci_low, 0.0);
+        let expected = 1.0 - 0.025f64.powf(1.0 / n as f64);
+        assert!(
+            close(e.ci_high, expected, 1e-9),
+            "n = {n}: {} vs {expected}",
+            e.ci_high
+        );
+        // Mirror image: all successes.
+        let e = exceedance(&column, 0.5, Direction::Below, 0.95);
+        assert_eq!(e.k, n as u64);
+        assert_eq!(e.ci_high, 1.0);
+        assert!(close(e.ci_low, 0.025f64.powf(1.0 / n as f64), 1e-9));
+    }
+}
+
+#[test]
+fn clopper_pearson_known_value() {
+    // k = 3, n = 100, 95 %: (0.00622, 0.08518), standard tables.
+    let mut column = vec![0.0; 97];
+    column.extend([1.0, 2.0, 3.0]);
+    let e = exceedance(&column, 0.5, Direction::Above, 0.95);
+    assert_eq!((e.k, e.n), (3, 100));
+    assert!(close(e.p, 0.03, 1e-15));
+    assert!(close(e.ci_low, 0.00622, 1e-4), "{}", e.ci_low);
+    assert!(close(e.ci_high, 0.08518, 1e-4), "{}", e.ci_high);
+}
+
+#[test]
+fn exceedance_is_strict_and_skips_non_finite() {
+    let values = [1.0, 2.0, 2.0, 3.0, f64::NAN, f64::INFINITY, 4.0];
+    let above = exceedance(&values, 2.0, Direction::Above, 0.95);
+    assert_eq!((above.k, above.n), (2, 5));
+    assert!(close(above.p, 2.0 / 5.0, 1e-15));
+    let below = exceedance(&values, 2.0, Direction::Below, 0.95);
+    assert_eq!((below.k, below.n), (1, 5));
+    // A wider level gives a wider interval.
+    let wide = exceedance(&values, 2.0, Direction::Above, 0.99);
+    assert!(wide.ci_low < above.ci_low && wide.ci_high > above.ci_high);
+}
+
+#[test]
+fn exceedance_degenerate_inputs() {
+    let e = exceedance(&[], 1.0, Direction::Above, 0.95);
+    assert_eq!((e.k, e.n), (0, 0));
+    assert!(e.p.is_nan() && e.ci_low.is_nan() && e.ci_high.is_nan());
+    let e = exceedance(&[f64::NAN], 1.0, Direction::Below, 0.95);
+    assert_eq!(e.n, 0);
+    assert!(e.p.is_nan());
+    for level in [0.0, 1.0, -0.5, 1.5, f64::NAN] {
+        let e = exceedance(&[0.0, 2.0], 1.0, Direction::Above, level);
+        assert_eq!(e.p, 0.5);
+        assert!(e.ci_low.is_nan() && e.ci_high.is_nan(), "level {level}");
+    }
+}
+
+// ------------------------------------------------------------------ spearman
+
+#[test]
+fn spearman_monotone_and_reversed() {
+    let x: Vec<f64> = (0..50).map(|i| f64::from(i) * 0.3 - 4.0).collect();
+    let y: Vec<f64> = x.iter().map(|v| v.exp()).collect();
+    assert!(close(spearman(&x, &y), 1.0, 1e-12));
+    let y_rev: Vec<f64> = x.iter().map(|v| -v.powi(3)).collect();
+    assert!(close(spearman(&x, &y_rev), -1.0, 1e-12));
+    let x_rev: Vec<f64> = x.iter().rev().copied().collect();
+    assert!(close(spearman(&x_rev, &y), -1.0, 1e-12));
+}
+
+#[test]
+fn spearman_ties_hand_computed() {
+    // Ranks x: [1, 2.5, 2.5, 4], y: [1, 2, 3, 4] (means 2.5):
+    // Σdxdy = 4.5, Σdx² = 4.5, Σdy² = 5 → ρ = 4.5 / √22.5 = 3 / √10.
+    let rho = spearman(&[1.0, 2.0, 2.0, 3.0], &[1.0, 2.0, 3.0, 4.0]);
+    assert!(close(rho, 3.0 / 10f64.sqrt(), 1e-12), "{rho}");
+    // Symmetric in its arguments.
+    let rho2 = spearman(&[1.0, 2.0, 3.0, 4.0], &[1.0, 2.0, 2.0, 3.0]);
+    assert!(close(rho2, rho, 1e-15));
+    // Ties on both sides: x ranks [1.5,1.5,3,4], y ranks [1,2.5,2.5,4]
+    // dx = [-1,-1,.5,1.5], dy = [-1.5,0,0,1.5]: Σdxdy = 3.75, Σdx² = 4.5,
+    // Σdy² = 4.5 → ρ = 3.75 / 4.5.
+    let rho3 = spearman(&[5.0, 5.0, 6.0, 9.0], &[0.0, 1.0, 1.0, 2.0]);
+    assert!(close(rho3, 3.75 / 4.5, 1e-12), "{rho3}");
+}
+
+#[test]
+fn spearman_independent_uniform_is_near_zero() {
+    let mut rng = SplitMix64(42);
+    let n = 10_000;
+    let x: Vec<f64> = (0..n).map(|_| rng.uniform()).collect();
+    let y: Vec<f64> = (0..n).map(|_| rng.uniform()).collect();
+    let rho = spearman(&x, &y);
+    assert!(rho.abs() < 0.05, "{rho}");
+}
+
+#[test]
+fn spearman_drops_non_finite_pairs_and_degenerate_cases() {
+    let x = [1.0, f64::NAN, 2.0, 3.0, 4.0, 5.0];
+    let y = [2.0, 100.0, 4.0, f64::INFINITY, 8.0, 10.0];
+    assert!(close(spearman(&x, &y), 1.0, 1e-12));
+    // Fewer than 3 valid pairs.
+    assert!(spearman(&[1.0, 2.0, f64::NAN], &[1.0, 2.0, 3.0]).is_nan());
+    assert!(spearman(&[], &[]).is_nan());
+    // Constant column.
+    assert!(spearman(&[1.0, 1.0, 1.0, 1.0], &[1.0, 2.0, 3.0, 4.0]).is_nan());
+    // Mismatched lengths.
+    assert!(spearman(&[1.0, 2.0, 3.0], &[1.0, 2.0, 3.0, 4.0]).is_nan());
+}
+
+// --------------------------------------------------------------------- sobol
+
+fn ishigami(x: [f64; 3]) -> f64 {
+    const A: f64 = 7.0;
+    const B: f64 = 0.1;
+    x[0].sin() + A * x[1].sin().powi(2) + B * x[2].powi(4) * x[0].sin()
+}
+
+#[test]
+fn sobol_ishigami() {
+    use std::f64::consts::PI;
+    let (a, b) = (7.0f64, 0.1f64);
+    // Analytic indices (Ishigami & Homma 1990; Sobol' & Levitan 1999).
+    let v1 = 0.5 * (1.0 + b * PI.powi(4) / 5.0).powi(2);
+    let v2 = a * a / 8.0;
+    let v13 = b * b * PI.powi(8) * (1.0 / 18.0 - 1.0 / 50.0);
+    let v = v1 + v2 + v13;
+    let expected_first = [v1 / v, v2 / v, 0.0];
+    let expected_total = [(v1 + v13) / v, v2 / v, v13 / v];
+    // Sanity against the published values.
+    assert!(close(expected_first[0], 0.3139, 1e-4));
+    assert!(close(expected_first[1], 0.4424, 1e-4));
+    assert!(close(expected_total[0], 0.5576, 1e-4));
+    assert!(close(expected_total[2], 0.2437, 1e-4));
+
+    let mut rng = SplitMix64(0x5A17_E111);
+    let n = 20_000;
+    let mut draw = || -> [f64; 3] { std::array::from_fn(|_| -PI + 2.0 * PI * rng.uniform()) };
+    let rows_a: Vec<[f64; 3]> = (0..n).map(|_| draw()).collect();
+    let rows_b: Vec<[f64; 3]> = (0..n).map(|_| draw()).collect();
+    let f_a: Vec<f64> = rows_a.iter().map(|&r| ishigami(r)).collect();
+    let f_b: Vec<f64> = rows_b.iter().map(|&r| ishigami(r)).collect();
+
+    for i in 0..3 {
+        let f_ab: Vec<f64> = rows_a
+            .iter()
+            .zip(&rows_b)
+            .map(|(ra, rb)| {
+                let mut r = *ra;
+                r[i] = rb[i];
+                ishigami(r)
+            })
+            .collect();
+        let s = sobol_indices(&f_a, &f_b, &f_ab);
+        assert!(
+            close(s.first, expected_first[i], 0.03),
+            "S{}: {} vs {}",
+            i + 1,
+            s.first,
+            expected_first[i]
+        );
+        assert!(
+            close(s.total, expected_total[i], 0.03),
+            "ST{}: {} vs {}",
+            i + 1,
+            s.total,
+            expected_total[i]
+        );
+    }
+}
+
+#[test]
+fn sobol_drops_non_finite_bases_and_degenerate_cases() {
+    // Additive model y = x1 + x2 with x2 constant → S1 = ST1 = 1.
+    let f_a = [0.0, 1.0, 2.0, 3.0, f64::NAN];
+    let f_b = [3.0, 2.0, 1.0, 0.0, 5.0];
+    // AB_1: A with x1 from B → equals f_b for a model of x1 only.
+    let f_ab = [3.0, 2.0, 1.0, 0.0, 5.0];
+    let s = sobol_indices(&f_a, &f_b, &f_ab);
+    assert!(s.first.is_finite() && s.total.is_finite());
+    // Dropping the NaN base is the same as never having it.
+    let s4 = sobol_indices(&f_a[..4], &f_b[..4], &f_ab[..4]);
+    assert_eq!(s, s4);
+    // Jansen total effect: mean((a − ab)²) / 2V with V = 1.25 (pooled
+    // population variance of 0..3 twice) and mean((a−ab)²) = (9+1+1+9)/4 = 5.
+    assert!(close(s.total, 5.0 / 2.5, 1e-12));
+
+    let nan = |s: SobolIndices| s.first.is_nan() && s.total.is_nan();
+    assert!(nan(sobol_indices(&[], &[], &[])));
+    assert!(nan(sobol_indices(&[1.0, 2.0], &[1.0], &[1.0, 2.0])));
+    assert!(nan(sobol_indices(&[1.0, 1.0], &[1.0, 1.0], &[1.0, 1.0])));
+    assert!(nan(sobol_indices(
+        &[1.0, f64::NAN],
+        &[1.0, 2.0],
+        &[1.0, 2.0]
+    )));
+}
