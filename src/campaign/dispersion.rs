@@ -182,8 +182,12 @@ pub(super) fn validate(
             return Err(c.table_err(&format!("{base}.key"), &r.key, "each key dispersed once"));
         }
         let dist = distribution(c, &base, r)?;
-        dist.validate().map_err(|e| {
-            c.table_err(&format!("{base}.{}", r.distribution), &r.key, e.to_string())
+        dist.validate().map_err(|e| CampaignError::Distribution {
+            file: c.file.to_path_buf(),
+            key: base.clone(),
+            distribution: r.distribution.clone(),
+            input: r.key.clone(),
+            message: e.to_string(),
         })?;
         inputs.push(DispersedInput {
             key: r.key.clone(),

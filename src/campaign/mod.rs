@@ -41,6 +41,14 @@ pub enum CampaignError {
         value: String,
         allowed: String,
     },
+    #[error("{file}: {key}: the {distribution} distribution of {input} is invalid: {message}")]
+    Distribution {
+        file: PathBuf,
+        key: String,
+        distribution: String,
+        input: String,
+        message: String,
+    },
 }
 
 /// A validated campaign: the physics parameters, the trajectory and the run settings.

@@ -1,0 +1,254 @@
+//! Dispersion campaigns on the CPU (issue 4): determinism across threads, chunk sizes and shards,
+//! physics sanity of the sensitivities, Python/DuckDB read-back, and bad input.
+
+mod common;
+use common::{campaign_path, load};
+use cryoslosh::campaign::Campaign;
+use cryoslosh::engine::{Backend, CpuEngine};
+use cryoslosh::montecarlo::{self, statistics, RunOptions, RunReport, Shard};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A short MHTB campaign (30 min lock-up) with its three dispersed inputs.
+fn short_mhtb(extra: &[&str]) -> Campaign {
+    let mut sets = vec!["phases.0.duration_s=1800", "campaign.output_interval_s=600"];
+    sets.extend_from_slice(extra);
+    load("mhtb_selfpress", &sets)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cryoslosh-mc-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn run(c: &Campaign, dir: &Path, n: u64, threads: usize, chunk: u64, shard: Shard) -> RunReport {
+    let opts = RunOptions {
+        out_dir: dir.to_path_buf(),
+        instances: n,
+        seed: 9,
+        shard,
+        chunk_size: chunk,
+        progress: false,
+    };
+    let backend = Backend::Cpu(CpuEngine::new(threads).unwrap());
+    montecarlo::run(c, &backend, &opts).unwrap()
+}
+
+fn bytes(dir: &Path, file: &str) -> Vec<u8> {
+    std::fs::read(dir.join(file)).unwrap()
+}
+
+#[test]
+fn threads_and_chunk_sizes_give_bit_identical_files() {
+    let c = short_mhtb(&[]);
+    let a = scratch("t1");
+    let b = scratch("t2");
+    let d = scratch("t2c5");
+    run(&c, &a, 40, 1, 7, Shard::ALL);
+    run(&c, &b, 40, 2, 40, Shard::ALL);
+    run(&c, &d, 40, 2, 5, Shard::ALL);
+    for f in ["instances.parquet", "statistics.parquet"] {
+        assert!(bytes(&a, f) == bytes(&b, f), "{f}: 1 vs 2 threads differ");
+        assert!(bytes(&a, f) == bytes(&d, f), "{f}: chunk 7 vs 5 differ");
+    }
+    for dir in [a, b, d] {
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
+
+#[test]
+fn three_shards_merged_equal_the_full_run() {
+    let c = short_mhtb(&[]);
+    let full = scratch("full");
+    let full_report = run(&c, &full, 31, 2, 8, Shard::ALL);
+    let shards: Vec<PathBuf> = (0..3)
+        .map(|i| {
+            let d = scratch(&format!("shard{i}"));
+            run(&c, &d, 31, 1, 4, Shard { index: i, count: 3 });
+            d
+        })
+        .collect();
+    let merged = scratch("merged");
+    // Any order on the command line.
+    let report = montecarlo::merge(
+        &[shards[2].clone(), shards[0].clone(), shards[1].clone()],
+        &merged,
+    )
+    .unwrap();
+    assert_eq!(report.instances, 31);
+    assert_eq!(report.instance_steps, full_report.instance_steps);
+    for f in ["instances.parquet", "statistics.parquet"] {
+        assert!(
+            bytes(&full, f) == bytes(&merged, f),
+            "{f}: merged shards differ from the full run"
+        );
+    }
+    // Shards that do not cover the campaign are refused.
+    let err = montecarlo::merge(&shards[..2], &scratch("partial")).unwrap_err();
+    assert!(err.to_string().contains("exactly once"), "{err}");
+    for dir in shards.into_iter().chain([full, merged]) {
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
+
+#[test]
+fn heat_leak_drives_closed_tank_boiloff() {
+    // Physics sanity: in a closed tank the heat leak, not the fill or the wall mass, sets boil-off.
+    let c = short_mhtb(&[]);
+    let dir = scratch("spearman");
+    let r = run(&c, &dir, 60, 2, 16, Shard::ALL);
+    let mut drivers: Vec<_> = r
+        .statistics
+        .iter()
+        .filter(|x| x.stat.quantity == "boiloff_kg" && x.stat.statistic == "spearman")
+        .collect();
+    drivers.sort_by(|a, b| b.stat.value.abs().total_cmp(&a.stat.value.abs()));
+    eprintln!(
+        "{:?}",
+        drivers
+            .iter()
+            .map(|d| (&d.input, d.stat.value))
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(drivers[0].input, "tank_heat_leak_w");
+    assert!(drivers[0].stat.value > 0.8);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn saltelli_design_yields_sobol_indices() {
+    let c = short_mhtb(&["dispersions.design=saltelli"]);
+    let dir = scratch("saltelli");
+    let r = run(&c, &dir, 5 * 64, 2, 64, Shard::ALL);
+    let get = |stat: &str| {
+        r.statistics
+            .iter()
+            .find(|x| {
+                x.stat.quantity == "boiloff_kg"
+                    && x.stat.statistic == stat
+                    && x.input == "tank_heat_leak_w"
+            })
+            .map(|x| x.stat.value)
+            .unwrap()
+    };
+    let (first, total) = (get("sobol_first"), get("sobol_total"));
+    eprintln!("heat leak on boil-off: S1 {first:.3}, ST {total:.3}");
+    assert!(
+        first > 0.6 && total > 0.6 && total < 1.2,
+        "S1 {first}, ST {total}"
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn python_readers_agree_with_statistics() {
+    // pyarrow, polars and DuckDB read both files; DuckDB's quantile_cont over non-diverged rows
+    // equals the p99 in statistics.parquet. CI installs them (CRYOSLOSH_REQUIRE_PYTHON=1).
+    let have = Command::new("python3")
+        .args(["-c", "import pyarrow, polars, duckdb"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !have {
+        assert!(
+            std::env::var_os("CRYOSLOSH_REQUIRE_PYTHON").is_none(),
+            "python3 with pyarrow, polars, duckdb is required"
+        );
+        eprintln!("skipped: python3 with pyarrow, polars and duckdb not available");
+        return;
+    }
+    let c = short_mhtb(&[]);
+    let dir = scratch("python");
+    run(&c, &dir, 37, 2, 16, Shard::ALL);
+    let script = format!(
+        r#"
+import duckdb, polars as pl, pyarrow.parquet as pq
+d = "{dir}"
+inst = pl.read_parquet(d + "/instances.parquet")
+stats = pl.read_parquet(d + "/statistics.parquet")
+assert inst.height == 37, inst.height
+meta = pq.read_metadata(d + "/instances.parquet").metadata
+assert b"cryoslosh.campaign" in meta and b"cryoslosh.seed" in meta, meta.keys()
+p99 = stats.filter((pl.col("quantity") == "peak_pressure_pa") & (pl.col("statistic") == "p99"))["value"][0]
+q = duckdb.sql(f"select quantile_cont(peak_pressure_pa, 0.99) from '{{d}}/instances.parquet' where not diverged and not rejected").fetchall()[0][0]
+assert abs(q - p99) <= 1e-9 * abs(p99), (q, p99)
+n = duckdb.sql(f"select count(*) from '{{d}}/statistics.parquet'").fetchall()[0][0]
+assert n == stats.height
+print("ok", p99, q)
+"#,
+        dir = dir.display()
+    );
+    let out = Command::new("python3")
+        .args(["-c", &script])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn statistics_exclude_diverged_and_count_rejected() {
+    // relief.crack_pa ~ N(165 kPa, 1.5 kPa) falls below the 160 kPa reseat in a few samples:
+    // those instances are rejected, counted, and absent from every statistic's n.
+    let c = load(
+        "lch4_coast",
+        &["phases.0.duration_s=3600", "relief.reseat_pa=164000"],
+    );
+    let dir = scratch("rejected");
+    let r = run(&c, &dir, 64, 2, 64, Shard::ALL);
+    assert!(r.rejected > 0, "expected rejected samples");
+    let n = statistics::find(&r.statistics, "peak_pressure_pa", "mean")
+        .unwrap()
+        .n;
+    assert_eq!(n, 64 - r.rejected - r.diverged);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+fn cli(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn bad_run_input_exits_2_and_writes_nothing() {
+    let camp = campaign_path("mhtb_selfpress");
+    let camp = camp.to_str().unwrap();
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &["--set", "dispersions.inputs.0.std=-1"],
+            "dispersions.inputs.0",
+        ),
+        (
+            &["--set", "dispersions.inputs.1.lo=0.95"],
+            "dispersions.inputs.1",
+        ),
+        (
+            &["--set", "dispersions.inputs.0.key=tank.heat_leek_w"],
+            "dispersions.inputs.0.key",
+        ),
+        (&["--set", "dispersions.design=latin"], "dispersions.design"),
+        (&["--shard", "3/2"], "--shard"),
+        (&["--seed", "abc"], "--seed"),
+        (&["--instances", "0"], "--instances"),
+    ];
+    for (extra, needle) in cases {
+        let out = scratch("bad");
+        let mut args = vec!["run", camp, "--out", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let o = cli(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{extra:?}: message does not name {needle}: {err}"
+        );
+        assert!(!out.exists(), "{extra:?}: output written on bad input");
+    }
+}
