@@ -396,3 +396,37 @@ fn sobol_drops_non_finite_bases_and_degenerate_cases() {
         &[1.0, 2.0]
     )));
 }
+
+/// Regression: statrs' beta inverse stalled for minutes (and its incomplete beta was wrong) at the
+/// Clopper–Pearson parameters of a 10-million-instance campaign.
+#[test]
+fn clopper_pearson_is_fast_and_right_for_huge_campaigns() {
+    let n = 10_000_000usize;
+    let start = std::time::Instant::now();
+    // k = n/2: symmetric about 0.5, width ≈ 2 · 1.96 · sqrt(0.25/n) (normal limit).
+    let half: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect();
+    let e = exceedance(&half, 0.5, Direction::Above, 0.95);
+    let width = 2.0 * 1.959_964 * (0.25 / n as f64).sqrt();
+    assert!(((e.ci_low + e.ci_high) / 2.0 - 0.5).abs() < 1e-9, "{e:?}");
+    assert!(((e.ci_high - e.ci_low) / width - 1.0).abs() < 1e-3, "{e:?}");
+    // k = 0 and k = 3 at large n: the rule-of-three scale.
+    let mut none = vec![0.0; n];
+    let e0 = exceedance(&none, 0.5, Direction::Above, 0.95);
+    assert!((e0.ci_high - (1.0 - 0.025f64.powf(1.0 / n as f64))).abs() < 1e-15);
+    none[..3].fill(1.0);
+    let e3 = exceedance(&none, 0.5, Direction::Above, 0.95);
+    // Exact: the 97.5 % quantile of Gamma(4)/n ≈ 8.7673e-7 and 2.5 % of Gamma(3)/n ≈ 6.187e-8.
+    assert!(
+        (e3.ci_high * n as f64 / 8.767_3 - 1.0).abs() < 1e-4,
+        "{e3:?}"
+    );
+    assert!(
+        (e3.ci_low * n as f64 / 0.618_7 - 1.0).abs() < 1e-3,
+        "{e3:?}"
+    );
+    assert!(
+        start.elapsed().as_secs_f64() < 20.0,
+        "took {:?}",
+        start.elapsed()
+    );
+}
