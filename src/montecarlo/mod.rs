@@ -131,11 +131,7 @@ fn metadata(
     shard: Shard,
 ) -> Vec<(String, String)> {
     let mut m = crate::history::provenance(c, backend, &shard.to_string());
-    for (k, v) in &mut m {
-        if k == "cryoslosh.seed" {
-            *v = o_seed.to_string();
-        }
-    }
+    set_meta(&mut m, "cryoslosh.seed", o_seed.to_string());
     m.push(("cryoslosh.instances".into(), instances.to_string()));
     m.push((
         "cryoslosh.design".into(),
@@ -149,6 +145,13 @@ fn metadata(
         .collect();
     m.push(("cryoslosh.inputs".into(), inputs.join(",")));
     m
+}
+
+/// Replace the value of `key` in key-value metadata.
+fn set_meta(meta: &mut [(String, String)], key: &str, value: String) {
+    if let Some((_, v)) = meta.iter_mut().find(|(k, _)| k == key) {
+        *v = value;
+    }
 }
 
 fn thresholds(c: &Campaign) -> Thresholds {
@@ -174,14 +177,8 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     };
     let range = o.shard.range(o.instances);
     let meta = metadata(c, engine.name(), o.seed, o.instances, o.shard);
-    let columns: Vec<String> = c
-        .dispersions
-        .inputs
-        .iter()
-        .map(|i| i.column.clone())
-        .collect();
     let inst_path = o.out_dir.join("instances.parquet");
-    let mut writer = InstanceWriter::create(&inst_path, &columns, meta.clone())?;
+    let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
 
     let bar = progress_bar(o.progress, range.end - range.start);
     let start = std::time::Instant::now();
@@ -359,19 +356,9 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
         source,
     })?;
     let mut meta = first.meta.clone();
-    for (k, v) in &mut meta {
-        if k == "cryoslosh.shard" {
-            *v = Shard::ALL.to_string();
-        }
-    }
-    let columns: Vec<String> = c
-        .dispersions
-        .inputs
-        .iter()
-        .map(|i| i.column.clone())
-        .collect();
+    set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());
     let mut writer =
-        InstanceWriter::create(&out.join("instances.parquet"), &columns, meta.clone())?;
+        InstanceWriter::create(&out.join("instances.parquet"), &c.dispersions, meta.clone())?;
     let mut rows = 0;
     for s in &shards {
         rows += table::copy_rows(&mut writer, &s.dir.join("instances.parquet"))?;

@@ -133,36 +133,34 @@ pub fn compute(
         ));
     }
 
-    if !d.inputs.is_empty() {
-        let inputs: Vec<Vec<f64>> = d
-            .inputs
-            .iter()
-            .map(|i| read_f64(path, &i.column).map(keep))
-            .collect::<Result<_, _>>()?;
+    // One input column in memory at a time: at ten million rows each column is 80 MB and the
+    // rank correlation needs several working copies.
+    for input in &d.inputs {
+        let x = keep(read_f64(path, &input.column)?);
         for q in SENSITIVITY_QOIS {
             let y = keep(read_f64(path, q)?);
-            for (input, x) in d.inputs.iter().zip(&inputs) {
-                let n = x
-                    .iter()
-                    .zip(&y)
-                    .filter(|(a, b)| a.is_finite() && b.is_finite())
-                    .count() as u64;
-                rows.push(Row {
-                    stat: StatRow {
-                        quantity: q.into(),
-                        statistic: "spearman".into(),
-                        threshold: f64::NAN,
-                        value: spearman(x, &y),
-                        ci_low: f64::NAN,
-                        ci_high: f64::NAN,
-                        n,
-                    },
-                    input: input.column.clone(),
-                });
-            }
-            if d.design == Design::Saltelli {
-                rows.extend(sobol_rows(q, &y, d, total));
-            }
+            let n = x
+                .iter()
+                .zip(&y)
+                .filter(|(a, b)| a.is_finite() && b.is_finite())
+                .count() as u64;
+            rows.push(Row {
+                stat: StatRow {
+                    quantity: q.into(),
+                    statistic: "spearman".into(),
+                    threshold: f64::NAN,
+                    value: spearman(&x, &y),
+                    ci_low: f64::NAN,
+                    ci_high: f64::NAN,
+                    n,
+                },
+                input: input.column.clone(),
+            });
+        }
+    }
+    if d.design == Design::Saltelli && !d.inputs.is_empty() {
+        for q in SENSITIVITY_QOIS {
+            rows.extend(sobol_rows(q, &keep(read_f64(path, q)?), d, total));
         }
     }
     Ok(rows)

@@ -2,6 +2,7 @@
 //! bytes do not depend on how the engine blocked the work (threads, block size, shard merge).
 
 use super::plan::InstanceRecord;
+use crate::campaign::dispersion::Dispersions;
 use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
 use crate::simulate::Summary;
 use arrow_array::{Array, BooleanArray, Float64Array, UInt64Array};
@@ -80,13 +81,15 @@ pub struct InstanceWriter {
 }
 
 impl InstanceWriter {
-    /// Create the temporary file for `path` with `metadata` as file-level key-value metadata.
+    /// Create the temporary file for `path` with one column per input of `d` and `metadata` as
+    /// file-level key-value metadata.
     pub fn create(
         path: &Path,
-        input_columns: &[String],
+        d: &Dispersions,
         metadata: Vec<(String, String)>,
     ) -> Result<Self, OutputError> {
-        let specs = schema(input_columns);
+        let input_columns: Vec<String> = d.inputs.iter().map(|i| i.column.clone()).collect();
+        let specs = schema(&input_columns);
         let bufs = specs
             .iter()
             .map(|s| match s.kind {

@@ -277,45 +277,38 @@ fn beta_reg(a: f64, b: f64, x: f64) -> f64 {
 
 /// The continued fraction of I_x(a, b) (Numerical Recipes `betacf`), iterated to 1e-15.
 fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
-    const TINY: f64 = 1e-300;
     let (qab, qap, qam) = (a + b, a + 1.0, a - 1.0);
     let mut c = 1.0;
-    let mut d = 1.0 - qab * x / qap;
-    if d.abs() < TINY {
-        d = TINY;
-    }
-    d = 1.0 / d;
+    let mut d = 1.0 / floor_tiny(1.0 - qab * x / qap);
     let mut h = d;
     let max_terms = 1000 + 20 * (a.max(b).sqrt() as usize);
     for m in 1..=max_terms {
         let m = m as f64;
         let m2 = 2.0 * m;
-        let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        h *= d * c;
-        let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        let del = d * c;
+        let even = m * (b - m) * x / ((qam + m2) * (a + m2));
+        h *= lentz_step(even, &mut c, &mut d);
+        let odd = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+        let del = lentz_step(odd, &mut c, &mut d);
         h *= del;
         if (del - 1.0).abs() < 1e-15 {
             break;
         }
     }
     h
+}
+
+/// One modified-Lentz update with coefficient `aa`; returns the factor for the convergent.
+fn lentz_step(aa: f64, c: &mut f64, d: &mut f64) -> f64 {
+    *d = 1.0 / floor_tiny(1.0 + aa * *d);
+    *c = floor_tiny(1.0 + aa / *c);
+    *c * *d
+}
+
+/// Keep a Lentz denominator away from zero.
+fn floor_tiny(v: f64) -> f64 {
+    if v.abs() < 1e-300 {
+        1e-300
+    } else {
+        v
+    }
 }
