@@ -21,7 +21,7 @@ fn mixture_du_dt(fluid: Fluid, v: f64, t: f64) -> f64 {
     let x = (v - vl) / (vv - vl);
     let dx = (-dvl * (vv - vl) - (v - vl) * (dvv - dvl)) / ((vv - vl) * (vv - vl));
     let ul = f.h_l_j_per_kg(t);
-    let uv = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(f);
+    let uv = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(fluid);
     f.cp_l_j_per_kg_k(t) + dx * (uv - ul) + x * (f.cv_vapor_j_per_kg_k - f.cp_l_j_per_kg_k(t))
 }
 

@@ -214,7 +214,7 @@ fn derive_nodes(p: &Params, s: &State, d: &Drive) -> Derived {
     motion(p, s, d, &mut out, nu);
     out.v_ullage_m3 =
         p.tank.volume_m3() - v_l + p.coupling.volume_m3 * slosh_angle(p, s, &out.slosh).sin();
-    let off = vapor_enthalpy_offset(f);
+    let off = vapor_enthalpy_offset(p.fluid);
     let heat_cap = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
     out.t_ullage_k = (s[U_U] - s[M_V] * off) / heat_cap;
     out.m_vapor_kg = s[M_V];

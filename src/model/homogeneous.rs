@@ -27,7 +27,7 @@ fn vapor_mass(p: &Params, m_p: f64, t: f64) -> f64 {
 pub fn fluid_energy(p: &Params, m_p: f64, m_g: f64, t: f64) -> f64 {
     let f = p.fluid.props();
     let m_v = vapor_mass(p, m_p, t);
-    let u_v = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(f);
+    let u_v = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(p.fluid);
     (m_p - m_v) * f.h_l_j_per_kg(t) + m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t
 }
 
@@ -137,7 +137,7 @@ pub fn rhs(
     let mut sv = *s;
     sv[M_V] = x.m_vapor_kg;
     let b = boundary::boundary_flows(p, &sv, d, x);
-    let h_v = f.cp_vapor_j_per_kg_k * t + vapor_enthalpy_offset(f);
+    let h_v = f.cp_vapor_j_per_kg_k * t + vapor_enthalpy_offset(p.fluid);
     let h_u = b.y_vapor * h_v + (1.0 - b.y_vapor) * HELIUM.cp_j_per_kg_k * t;
     let h_l = f.h_l_j_per_kg(t);
     let h_press = boundary::helium_inlet_enthalpy(p);

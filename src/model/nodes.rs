@@ -76,7 +76,7 @@ fn liquid_node_rates(p_pa: f64, flux_w: f64, dm: f64, t: f64, rho: f64, p: &Para
 pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut State) -> Fluxes {
     let f = p.fluid.props();
     let ht = &p.heat_transfer;
-    let off = vapor_enthalpy_offset(f);
+    let off = vapor_enthalpy_offset(p.fluid);
     let (t_u, t_s, t_b) = (x.t_ullage_k, x.t_layer_k, x.t_bulk_k);
     let a_i = x.interface_area_m2;
     let r_surf = p.tank.surface_radius_m(x.level_m).max(1.0e-3);

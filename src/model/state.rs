@@ -7,7 +7,8 @@
 //! (vented, drawn, pressurant, heat) live in the same vector for the same reason.
 
 use super::params::{Fidelity, Params};
-use crate::fluids::{FluidProps, HELIUM};
+use crate::fluids::{Fluid, HELIUM};
+use std::sync::OnceLock;
 
 /// Vapour mass in the ullage, kg.
 pub const M_V: usize = 0;
@@ -67,10 +68,19 @@ pub type State = [f64; NS];
 
 /// Enthalpy reference of the vapour as an ideal gas: h_v(T) = c_p,v T + offset, with the offset
 /// chosen so that h_v − h_l = h_fg at the normal boiling point (MODEL.md §4, consistent
-/// references). Fixed per fluid so that dispersed inputs never move a reference.
-pub fn vapor_enthalpy_offset(f: &FluidProps) -> f64 {
-    let t_ref = f.tsat_k(101_325.0);
-    f.h_l_j_per_kg(t_ref) + f.h_fg_j_per_kg(t_ref) - f.cp_vapor_j_per_kg_k * t_ref
+/// references). Fixed per fluid so that dispersed inputs never move a reference; computed once
+/// (it needs a T_sat solve, which the right-hand side must not repeat).
+pub fn vapor_enthalpy_offset(fluid: Fluid) -> f64 {
+    static OFFSETS: OnceLock<[f64; 4]> = OnceLock::new();
+    let table = OFFSETS.get_or_init(|| {
+        Fluid::ALL.map(|fl| {
+            let f = fl.props();
+            let t_ref = f.tsat_k(101_325.0);
+            f.h_l_j_per_kg(t_ref) + f.h_fg_j_per_kg(t_ref) - f.cp_vapor_j_per_kg_k * t_ref
+        })
+    });
+    let i = Fluid::ALL.iter().position(|&x| x == fluid).unwrap_or(0);
+    table[i]
 }
 
 /// Initial wetted fraction of the wall and the liquid level for the initial fill.
@@ -109,7 +119,7 @@ pub fn initial_state(p: &Params) -> State {
             let (z, _) = initial_level(p);
             let area = p.tank.interface_area_m2(z).max(1.0e-6);
             let m_s = (rho * area * p.stratification.initial_thickness_m).min(0.5 * m_l);
-            let off = vapor_enthalpy_offset(f);
+            let off = vapor_enthalpy_offset(p.fluid);
             s[U_U] = m_v * (f.cv_vapor_j_per_kg_k * t_u + off) + m_g * HELIUM.cv_j_per_kg_k * t_u;
             s[M_S] = m_s;
             s[H_S] = m_s * f.h_l_j_per_kg(t_l);
