@@ -362,12 +362,15 @@ pub fn simulate(c: &Campaign, p: &Params, mut history: Option<&mut History>) -> 
     let mut last = ev0;
     'phases: for phase in &c.phases {
         let (n, dt) = phase.steps();
+        // The derivative evaluated for the QoIs after a step is the next step's k1 when the
+        // valve did not switch and the phase goes on: reuse it (bit-identical, one RHS less).
+        let mut next_k1: Option<State> = None;
         for k in 0..n {
             let tp = k as f64 * dt;
-            model::rk4_step(p, phase, &mut s, tp, dt, valve);
+            model::rk4_step(p, phase, &mut s, tp, dt, valve, next_k1.as_ref());
             steps += 1;
             t += dt;
-            let d = Drive::of_phase(phase, tp + dt, valve);
+            let d = Drive::of_phase(phase, (k + 1) as f64 * dt, valve);
             let ev = model::evaluate(p, &s, &d, dt);
             if let Some(reason) = check_state(p, &s, &ev.derived) {
                 tr.summary.diverged = true;
@@ -376,8 +379,10 @@ pub fn simulate(c: &Campaign, p: &Params, mut history: Option<&mut History>) -> 
                 break 'phases;
             }
             tr.observe(p, t, &s, &ev, &d);
+            let valve_before = valve;
             valve = model::update_valve(p, ev.derived.p_ullage_pa, valve);
             let phase_end = k + 1 == n;
+            next_k1 = (valve == valve_before && !phase_end).then_some(ev.rates);
             if let Some(h) = history.as_deref_mut() {
                 if t >= next_sample - 1.0e-9 * c.output_interval_s || phase_end {
                     h.push(row(p, t, &s, &ev, &d), &phase.name, valve);

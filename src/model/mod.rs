@@ -47,10 +47,22 @@ pub fn evaluate(p: &Params, s: &State, d: &Drive, dt: f64) -> Evaluation {
 }
 
 /// One classical fourth-order Runge–Kutta step of length `dt` from phase time `t` (the GPU
-/// kernel mirrors this in lockstep). The relief-valve state is held over the step.
-pub fn rk4_step(p: &Params, phase: &Phase, s: &mut State, t: f64, dt: f64, valve_open: bool) {
+/// kernel mirrors this in lockstep). The relief-valve state is held over the step. `k1`, when
+/// given, is the derivative already evaluated at (s, t, dt, valve_open) by the caller.
+pub fn rk4_step(
+    p: &Params,
+    phase: &Phase,
+    s: &mut State,
+    t: f64,
+    dt: f64,
+    valve_open: bool,
+    k1: Option<&State>,
+) {
     let drive = |tt: f64| Drive::of_phase(phase, tt, valve_open);
-    let k1 = evaluate(p, s, &drive(t), dt).rates;
+    let k1 = match k1 {
+        Some(k) => *k,
+        None => evaluate(p, s, &drive(t), dt).rates,
+    };
     let k2 = evaluate(p, &axpy(s, 0.5 * dt, &k1), &drive(t + 0.5 * dt), dt).rates;
     let k3 = evaluate(p, &axpy(s, 0.5 * dt, &k2), &drive(t + 0.5 * dt), dt).rates;
     let k4 = evaluate(p, &axpy(s, dt, &k3), &drive(t + dt), dt).rates;
