@@ -125,6 +125,44 @@ pub fn slosh_angle_rate(p: &Params, s: &State, x: &Derived) -> f64 {
     }
 }
 
+/// Wall node rates: the insulation heat by area share, less the heat each node passes to the
+/// fluid (`q_wet_w` into the liquid, `q_dry_w` into the ullage), plus the hand-over of wall mass
+/// and its energy as the waterline moves with the liquid volume rate `dv_liquid_m3_s`.
+pub fn wall_rates(
+    p: &Params,
+    x: &Derived,
+    q_wet_w: f64,
+    q_dry_w: f64,
+    dv_liquid_m3_s: f64,
+    ds: &mut State,
+) {
+    let dz = dv_liquid_m3_s / p.tank.cross_section_area_m2(x.level_m).max(1.0e-9);
+    let m_wall = p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2();
+    let dshare = x.wetted_share_slope * dz;
+    let t_moving = if dshare < 0.0 {
+        x.t_wall_wet_k
+    } else {
+        x.t_wall_dry_k
+    };
+    let handover = m_wall * dshare * p.wall_cp_j_per_kg_k * t_moving;
+    let q_env = p.heat_leak_w;
+    ds[E_WD] = q_env * (1.0 - x.wetted_share) - q_dry_w - handover;
+    ds[E_WW] = q_env * x.wetted_share - q_wet_w + handover;
+    ds[E_ENV] = q_env;
+}
+
+/// The ledger of what crossed the tank boundary: vented species, drawn propellant, helium in,
+/// and their energies (`h_u` the ullage enthalpy, `e_out_w` the enthalpy flow of the draw).
+pub fn boundary_ledger(b: &BoundaryFlows, h_press: f64, h_u: f64, e_out_w: f64, ds: &mut State) {
+    ds[VENT_V] = b.vent_kg_s * b.y_vapor;
+    ds[VENT_G] = b.vent_kg_s * (1.0 - b.y_vapor);
+    ds[OUT] = b.out_kg_s;
+    ds[PRESS_IN] = b.press_kg_s;
+    ds[E_PRESS] = b.press_kg_s * h_press;
+    ds[E_VENT] = b.vent_kg_s * h_u;
+    ds[E_OUT] = e_out_w;
+}
+
 /// Helium enthalpy at the inlet temperature, J/kg.
 pub fn helium_inlet_enthalpy(p: &Params) -> f64 {
     p.pressurization

@@ -10,7 +10,7 @@ use super::boundary;
 use super::derive::{fill_level, motion, wall_temperatures, Derived, Drive};
 use super::params::Params;
 use super::state::*;
-use super::thermal::{self, ConvectionProps};
+use super::thermal;
 use crate::fluids::HELIUM;
 
 /// Vapour mass at temperature `t` when `m_p` of propellant fills `v_tank` in equilibrium:
@@ -96,22 +96,9 @@ pub fn rhs(
     let a_tot = p.tank.wall_area_m2();
     let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * (1.0 - x.wetted_share));
     let rho = x.rho_bulk;
-    let liq = ConvectionProps {
-        k: f.k_l_w_per_m_k(t),
-        mu: f.mu_l_pa_s(t),
-        rho,
-        cp: f.cp_l_j_per_kg_k(t),
-        beta: -f.drho_l_dt(t) / rho,
-    };
+    let liq = super::nodes::liquid_props(p, t);
+    let gas = super::nodes::gas_props(p, s, x);
     let m_u = x.m_vapor_kg + s[M_G];
-    let y = if m_u > 0.0 { x.m_vapor_kg / m_u } else { 1.0 };
-    let gas = ConvectionProps {
-        k: y * f.k_v_w_per_m_k(t) + (1.0 - y) * HELIUM.k_w_per_m_k(t),
-        mu: y * f.mu_v_pa_s(t) + (1.0 - y) * HELIUM.mu_pa_s(t),
-        rho: m_u / x.v_ullage_m3,
-        cp: y * f.cp_vapor_j_per_kg_k + (1.0 - y) * HELIUM.cp_j_per_kg_k,
-        beta: 1.0 / t,
-    };
     let ht = &p.heat_transfer;
     let h_wl = ht
         .h_wall_liquid_w_per_m2_k
@@ -147,26 +134,8 @@ pub fn rhs(
     ds[H_B] = q_wl + q_wu + b.press_kg_s * h_press - b.vent_kg_s * h_u - b.out_kg_s * h_l;
     boundary::motion_rates(p, s, d, x, ds);
 
-    let q_env = p.heat_leak_w;
-    let dv_l = ds[M_B] / rho; // level motion for the wall hand-over (vapour share neglected)
-    let dz = dv_l / p.tank.cross_section_area_m2(x.level_m).max(1.0e-9);
-    let dshare = x.wetted_share_slope * dz;
-    let t_moving = if dshare < 0.0 {
-        x.t_wall_wet_k
-    } else {
-        x.t_wall_dry_k
-    };
-    let handover = p.wall_areal_mass_kg_per_m2 * a_tot * dshare * p.wall_cp_j_per_kg_k * t_moving;
-    ds[E_WD] = q_env * (1.0 - x.wetted_share) - q_wu - handover;
-    ds[E_WW] = q_env * x.wetted_share - q_wl + handover;
-
-    ds[VENT_V] = b.vent_kg_s * b.y_vapor;
-    ds[VENT_G] = b.vent_kg_s * (1.0 - b.y_vapor);
-    ds[OUT] = b.out_kg_s;
-    ds[PRESS_IN] = b.press_kg_s;
-    ds[E_ENV] = q_env;
-    ds[E_PRESS] = b.press_kg_s * h_press;
-    ds[E_VENT] = b.vent_kg_s * h_u;
-    ds[E_OUT] = b.out_kg_s * h_l;
+    // Level motion for the wall hand-over (vapour share neglected).
+    boundary::wall_rates(p, x, q_wl, q_wu, ds[M_B] / rho, ds);
+    boundary::boundary_ledger(&b, h_press, h_u, b.out_kg_s * h_l, ds);
     b
 }

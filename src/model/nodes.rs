@@ -33,7 +33,7 @@ pub struct Fluxes {
 }
 
 /// Liquid properties for convection at temperature `t`.
-fn liquid_props(p: &Params, t: f64) -> ConvectionProps {
+pub(super) fn liquid_props(p: &Params, t: f64) -> ConvectionProps {
     let f = p.fluid.props();
     let rho = f.rho_l_kg_per_m3(t);
     ConvectionProps {
@@ -47,10 +47,10 @@ fn liquid_props(p: &Params, t: f64) -> ConvectionProps {
 
 /// Ullage-gas properties at the ullage temperature: mass-fraction-weighted vapour and helium
 /// transport properties (a mixing rule adequate for a convection estimate), ideal-gas β = 1/T.
-fn gas_props(p: &Params, s: &State, x: &Derived) -> ConvectionProps {
+pub(super) fn gas_props(p: &Params, s: &State, x: &Derived) -> ConvectionProps {
     let f = p.fluid.props();
-    let m = s[M_V] + s[M_G];
-    let y = if m > 0.0 { s[M_V] / m } else { 1.0 };
+    let m = x.m_vapor_kg + s[M_G];
+    let y = if m > 0.0 { x.m_vapor_kg / m } else { 1.0 };
     let t = x.t_ullage_k;
     ConvectionProps {
         k: y * f.k_v_w_per_m_k(t) + (1.0 - y) * HELIUM.k_w_per_m_k(t),
@@ -181,30 +181,8 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
         + pu * (dv_s + dv_b)
         - pu * dv_slosh;
 
-    // Wall: insulation heat by area share; the moving waterline hands wall mass (and its energy)
-    // from one node to the other.
-    let dz = (dv_s + dv_b) / p.tank.cross_section_area_m2(x.level_m).max(1.0e-9);
-    let m_wall = p.wall_areal_mass_kg_per_m2 * a_tot;
-    let dshare = x.wetted_share_slope * dz;
-    let t_moving = if dshare < 0.0 {
-        x.t_wall_wet_k
-    } else {
-        x.t_wall_dry_k
-    };
-    let handover = m_wall * dshare * p.wall_cp_j_per_kg_k * t_moving;
-    let q_env = p.heat_leak_w;
-    ds[E_WD] = q_env * (1.0 - x.wetted_share) - q_wu - handover;
-    ds[E_WW] = q_env * x.wetted_share - q_wl + handover;
-
-    // Boundary accumulators.
-    ds[VENT_V] = b.vent_kg_s * y;
-    ds[VENT_G] = b.vent_kg_s * (1.0 - y);
-    ds[OUT] = b.out_kg_s;
-    ds[PRESS_IN] = b.press_kg_s;
-    ds[E_ENV] = q_env;
-    ds[E_PRESS] = b.press_kg_s * h_press;
-    ds[E_VENT] = b.vent_kg_s * h_u;
-    ds[E_OUT] = out_s * h_ls + out_b * h_lb;
+    boundary::wall_rates(p, x, q_wl, q_wu, dv_s + dv_b, ds);
+    boundary::boundary_ledger(&b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     ds[E_WORK] = -pu * dv_slosh;
 
     Fluxes {
