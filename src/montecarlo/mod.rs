@@ -15,7 +15,7 @@ use statistics::{Row, Thresholds};
 use std::io::IsTerminal;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use table::{InstanceWriter, MergeCopyError, ReadError};
+use table::{InstanceWriter, ReadError};
 
 /// A contiguous slice of the instance range: shard `index` of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -88,8 +88,6 @@ pub enum RunError {
     Output(#[from] OutputError),
     #[error(transparent)]
     Read(#[from] ReadError),
-    #[error(transparent)]
-    Copy(#[from] MergeCopyError),
     #[error("{0}")]
     Input(String),
 }

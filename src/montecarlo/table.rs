@@ -302,7 +302,7 @@ pub fn read_u64(path: &Path, name: &str) -> Result<Vec<u64>, ReadError> {
 
 /// Append every row of the instances file `src` (same schema as `w`) to `w`, one batch of
 /// [`ROW_GROUP_ROWS`] at a time so memory stays bounded.
-pub fn copy_rows(w: &mut InstanceWriter, src: &Path) -> Result<u64, MergeCopyError> {
+pub fn copy_rows(w: &mut InstanceWriter, src: &Path) -> Result<u64, super::RunError> {
     let file = std::fs::File::open(src).map_err(|e| parquet_err(src, e))?;
     let reader = ParquetRecordBatchReaderBuilder::try_new(file)
         .map_err(|e| parquet_err(src, e))?
@@ -325,13 +325,4 @@ pub fn copy_rows(w: &mut InstanceWriter, src: &Path) -> Result<u64, MergeCopyErr
         total += batch.num_rows() as u64;
     }
     Ok(total)
-}
-
-/// Failure while copying shard rows.
-#[derive(Debug, thiserror::Error)]
-pub enum MergeCopyError {
-    #[error(transparent)]
-    Read(#[from] ReadError),
-    #[error(transparent)]
-    Write(#[from] OutputError),
 }
