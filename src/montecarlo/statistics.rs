@@ -96,41 +96,35 @@ pub fn compute(
         ));
     }
 
-    for (name, _) in QOI_F64 {
-        rows.extend(
-            describe(name, &keep(read_f64(path, name)?))
-                .into_iter()
-                .map(plain),
-        );
-    }
-    let peak = keep(read_f64(path, "peak_pressure_pa")?);
-    rows.push(exceed_row(
-        "peak_pressure_pa",
-        "prob_exceed",
-        &peak,
-        thresholds.meop_pa,
-        Direction::Above,
-        level,
-    ));
-    let margin = keep(read_f64(path, "min_cavitation_margin_m")?);
-    rows.push(exceed_row(
-        "min_cavitation_margin_m",
-        "prob_below",
-        &margin,
-        0.0,
-        Direction::Below,
-        level,
-    ));
-    if let Some(budget) = thresholds.boiloff_budget_kg {
-        let b = keep(read_f64(path, "boiloff_kg")?);
-        rows.push(exceed_row(
+    // Tail probabilities of the design margins, computed while their column is loaded.
+    let exceedances = [
+        (
+            "peak_pressure_pa",
+            "prob_exceed",
+            Some(thresholds.meop_pa),
+            Direction::Above,
+        ),
+        (
+            "min_cavitation_margin_m",
+            "prob_below",
+            Some(0.0),
+            Direction::Below,
+        ),
+        (
             "boiloff_kg",
             "prob_exceed",
-            &b,
-            budget,
+            thresholds.boiloff_budget_kg,
             Direction::Above,
-            level,
-        ));
+        ),
+    ];
+    for (name, _) in QOI_F64 {
+        let values = keep(read_f64(path, name)?);
+        rows.extend(describe(name, &values).into_iter().map(plain));
+        for (q, statistic, threshold, dir) in exceedances {
+            if let Some(threshold) = threshold.filter(|_| q == name) {
+                rows.push(exceed_row(name, statistic, &values, threshold, dir, level));
+            }
+        }
     }
 
     // One input column in memory at a time: at ten million rows each column is 80 MB and the
