@@ -9,6 +9,7 @@ pub mod campaign;
 pub mod engine;
 pub mod fluids;
 pub mod geometry;
+pub mod gpu;
 pub mod history;
 pub mod model;
 pub mod montecarlo;
