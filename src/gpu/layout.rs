@@ -1,6 +1,6 @@
 //! Rust ↔ WGSL data layout: every struct the kernels read or write is declared once here with
 //! [`gpu_struct!`], which derives the `#[repr(C)]` bytemuck type and emits the matching WGSL
-//! declaration, so the two cannot disagree. Fields are `f32`, `u32` or `[f32; N]` only: their
+//! declaration, so the two cannot disagree. Fields are `f32`, `u32`, arrays of them or other such structs only: their
 //! alignment is 4 in both languages, so neither side inserts padding (storage buffers only).
 
 /// WGSL spelling of a field type.
@@ -33,7 +33,8 @@ impl<const N: usize> WgslType for [u32; N] {
     }
 }
 
-/// Declares a `#[repr(C)]` Pod struct and a `wgsl()` function returning its WGSL declaration.
+/// Declares a `#[repr(C)]` Pod struct and a `wgsl()` function returning its WGSL declaration;
+/// the struct may itself be a field of another (WGSL aligns it to 4 as well).
 #[macro_export]
 macro_rules! gpu_struct {
     ($(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $field:ident : $ty:ty),* $(,)? }) => {
@@ -49,6 +50,12 @@ macro_rules! gpu_struct {
                 $( s += &format!("    {}: {},\n", stringify!($field), <$ty as $crate::gpu::layout::WgslType>::wgsl()); )*
                 s += "}\n";
                 s
+            }
+        }
+
+        impl $crate::gpu::layout::WgslType for $name {
+            fn wgsl() -> String {
+                stringify!($name).into()
             }
         }
     };
