@@ -208,6 +208,46 @@ impl Tank {
         self.wall_area
     }
 
+    /// Length `L` of the cylindrical section (m); 0 for a sphere.
+    pub(crate) fn length_m(&self) -> f64 {
+        self.length
+    }
+
+    /// Dome ratio `k` as used internally (clamped; 1 for a sphere or cylinder).
+    pub(crate) fn dome_ratio(&self) -> f64 {
+        self.k
+    }
+
+    /// Dome height `a = k R` (m); 0 for a cylinder.
+    pub(crate) fn dome_height_m(&self) -> f64 {
+        self.a
+    }
+
+    /// `e = 1 − k²` (oblate > 0, prolate < 0).
+    pub(crate) fn dome_e(&self) -> f64 {
+        self.e
+    }
+
+    /// `c = k² R` (m).
+    pub(crate) fn dome_c_m(&self) -> f64 {
+        self.c
+    }
+
+    /// Volume of one dome (m³); 0 for a cylinder.
+    pub(crate) fn dome_volume_m3(&self) -> f64 {
+        self.dome_volume
+    }
+
+    /// Wall area of one dome (m²); for a cylinder the end-disc area `π R²`.
+    pub(crate) fn dome_area_m2(&self) -> f64 {
+        self.dome_area
+    }
+
+    /// Cylinder cross-section `π R²` (m²).
+    pub(crate) fn disc_area_m2(&self) -> f64 {
+        self.disc_area
+    }
+
     /// Liquid volume (m³) below the flat free surface at height `z_m` (m);
     /// `z_m` is clamped to `[0, H]`. Strictly increasing in `z`.
     pub fn liquid_volume_m3(&self, z_m: f64) -> f64 {

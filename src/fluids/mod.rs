@@ -92,7 +92,7 @@ pub const R_UNIVERSAL: f64 = 8.314_462_618;
 /// Number of polynomial coefficients of every liquid-side fit (degree 7).
 const NCOEF: usize = 8;
 /// `ln P_sat` is limited to this magnitude so `P_sat` is finite for any input.
-const LN_P_LIMIT: f64 = 700.0;
+pub(crate) const LN_P_LIMIT: f64 = 700.0;
 /// Relative convergence tolerance of [`FluidProps::tsat_k`] on T.
 const TSAT_TOL: f64 = 1e-13;
 /// Relative convergence tolerance of [`FluidProps::t_from_h_l_k`] on T.
@@ -100,9 +100,9 @@ const T_FROM_H_TOL: f64 = 1e-12;
 /// Iteration cap of the safeguarded Newton solvers.
 const MAX_ITER: usize = 40;
 /// Temperature clamp (K) for the gas power laws.
-const POWER_LAW_T_MIN_K: f64 = 1.0;
+pub(crate) const POWER_LAW_T_MIN_K: f64 = 1.0;
 /// Temperature clamp (K) for the gas power laws.
-const POWER_LAW_T_MAX_K: f64 = 10_000.0;
+pub(crate) const POWER_LAW_T_MAX_K: f64 = 10_000.0;
 
 /// A cryogenic propellant with saturation-property fits (CoolProp 8.0.0 source data).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -201,13 +201,13 @@ pub struct FluidProps {
 
 /// Horner evaluation of `Σ c_i x^i`.
 #[inline]
-fn poly(c: &[f64; NCOEF], x: f64) -> f64 {
+pub(crate) fn poly(c: &[f64; NCOEF], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, &a| acc * x + a)
 }
 
 /// Horner evaluation of the derivative `Σ i c_i x^(i−1)`.
 #[inline]
-fn poly_deriv(c: &[f64; NCOEF], x: f64) -> f64 {
+pub(crate) fn poly_deriv(c: &[f64; NCOEF], x: f64) -> f64 {
     c.iter()
         .enumerate()
         .skip(1)

@@ -1,3 +1,4 @@
 //! The WGSL backend's host side: data layout shared with the shaders in `shaders/`.
 
 pub mod layout;
+pub mod props;

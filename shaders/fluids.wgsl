@@ -1,0 +1,212 @@
+// Propellant and helium properties in f32, one function per `FluidProps` / `GasProps` method of
+// src/fluids/mod.rs (same clamping and continuation). The kernel assigns FL and HE once per
+// invocation; every per-fluid number comes from them (see src/gpu/props.rs).
+
+var<private> FL: GpuFluid;
+var<private> HE: GpuGas;
+
+// Newton iterations of fl_tsat_k and fl_t_from_h_l: bracketed, converge in < 6 from the guess.
+const FL_NEWTON_ITER: i32 = 16;
+// Newton steps below this (in x, |x| <= 1) are accepted as converged: a few f32 ulps.
+const FL_NEWTON_TOL: f32 = 2e-7;
+
+// Horner evaluation of sum c_i x^i.
+fn fl_poly(c: array<f32, 8>, x: f32) -> f32 {
+    return c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * (c[4] + x * (c[5] + x * (c[6] + x * c[7]))))));
+}
+
+// Normalised temperature x = (T - T_mid) / T_half, unclamped (T_mid carried as hi + lo).
+fn fl_x(t: f32) -> f32 {
+    return ((t - FL.t_mid_hi) - FL.t_mid_lo) * FL.inv_t_half;
+}
+
+// Normalised temperature clamped to [-1, 1].
+fn fl_x_clamped(t: f32) -> f32 {
+    return clamp(fl_x(t), -1.0, 1.0);
+}
+
+// Temperature (K) from a normalised temperature.
+fn fl_t_of(x: f32) -> f32 {
+    return FL.t_mid_hi + (FL.t_mid_lo + FL.t_half * x);
+}
+
+// (ln P_sat, d ln P_sat / dx), continued linearly outside [-1, 1], before the limit.
+fn fl_ln_psat_and_slope(t: f32) -> vec2<f32> {
+    let x = fl_x(t);
+    if x < -1.0 {
+        return vec2<f32>(FL.ln_psat_lo + FL.ln_psat_slope_lo * (x + 1.0), FL.ln_psat_slope_lo);
+    }
+    if x > 1.0 {
+        return vec2<f32>(FL.ln_psat_hi + FL.ln_psat_slope_hi * (x - 1.0), FL.ln_psat_slope_hi);
+    }
+    return vec2<f32>(fl_poly(FL.ln_psat, x), fl_poly(FL.ln_psat_d, x));
+}
+
+// y_ref (T / t_ref)^n with T clamped to [t_min, t_max].
+fn fl_power_law(y_ref: f32, t_ref: f32, n: f32, t_min: f32, t_max: f32, t: f32) -> f32 {
+    return y_ref * pow(clamp(t, t_min, t_max) / t_ref, n);
+}
+
+// Specific gas constant R_u / M of the vapour, J/(kg K).
+fn fl_r_specific() -> f32 {
+    return FL.r_specific;
+}
+
+// Saturation pressure (Pa) at t (K); |ln P| limited so the result is a finite normal f32.
+fn fl_psat_pa(t: f32) -> f32 {
+    let l = fl_ln_psat_and_slope(t);
+    return exp(clamp(l.x, -FL.ln_p_limit, FL.ln_p_limit));
+}
+
+// dP_sat/dT (Pa/K) at t (K), consistent with fl_psat_pa; 0 where the limit is active.
+fn fl_dpsat_dt(t: f32) -> f32 {
+    let l = fl_ln_psat_and_slope(t);
+    if abs(l.x) > FL.ln_p_limit {
+        return 0.0;
+    }
+    return exp(l.x) * l.y * FL.inv_t_half;
+}
+
+// Saturation temperature (K) at p (Pa): bracketed Newton on the ln P_sat polynomial from the
+// Clausius-Clapeyron guess; clamps to [t_min, t_max] outside [P_sat(t_min), P_sat(t_max)].
+fn fl_tsat_k(p: f32) -> f32 {
+    let t_min = FL.t_min_hi + FL.t_min_lo;
+    if p <= 0.0 {
+        return t_min;
+    }
+    let ln_p = log(p);
+    if ln_p <= FL.ln_psat_lo {
+        return t_min;
+    }
+    if ln_p >= FL.ln_psat_hi {
+        return FL.t_max;
+    }
+    let frac = (ln_p - FL.ln_psat_lo) / (FL.ln_psat_hi - FL.ln_psat_lo);
+    let inv_t = (1.0 - frac) / t_min + frac / FL.t_max;
+    var x = fl_x_clamped(1.0 / inv_t);
+    var lo = -1.0;
+    var hi = 1.0;
+    for (var i = 0; i < FL_NEWTON_ITER; i++) {
+        let f = fl_poly(FL.ln_psat, x) - ln_p;
+        if f == 0.0 {
+            break;
+        }
+        if f > 0.0 {
+            hi = x;
+        } else {
+            lo = x;
+        }
+        let x_newton = x - f / fl_poly(FL.ln_psat_d, x);
+        if abs(x_newton - x) <= FL_NEWTON_TOL {
+            x = clamp(x_newton, -1.0, 1.0);
+            break;
+        }
+        x = select(0.5 * (lo + hi), x_newton, x_newton > lo && x_newton < hi);
+    }
+    return fl_t_of(x);
+}
+
+// Saturated-liquid density (kg/m3) at t (K), clamped outside the range.
+fn fl_rho_l(t: f32) -> f32 {
+    return fl_poly(FL.rho_l, fl_x_clamped(t));
+}
+
+// d rho_l / dT (kg/(m3 K)) at t (K); 0 outside the range.
+fn fl_drho_l_dt(t: f32) -> f32 {
+    let x = fl_x(t);
+    if x < -1.0 || x > 1.0 {
+        return 0.0;
+    }
+    return fl_poly(FL.rho_l_d, x) * FL.inv_t_half;
+}
+
+// Saturated-liquid c_p (J/(kg K)) at t (K), clamped outside the range.
+fn fl_cp_l(t: f32) -> f32 {
+    return fl_poly(FL.cp_l, fl_x_clamped(t));
+}
+
+// Liquid enthalpy (J/kg, 0 at t_min) at t (K): (T - t_min) times the mean c_p over
+// [t_min, T], continued linearly with the end-point c_p outside the range.
+fn fl_h_l(t: f32) -> f32 {
+    let d = (t - FL.t_min_hi) - FL.t_min_lo;
+    if d <= 0.0 {
+        return FL.cp_l_lo * d;
+    }
+    if t >= FL.t_max {
+        return FL.h_l_max + FL.cp_l_hi * (t - FL.t_max);
+    }
+    return d * fl_poly(FL.h_l_mean, fl_x_clamped(t));
+}
+
+// Temperature (K) with liquid enthalpy h (J/kg): inverse of fl_h_l by bracketed Newton on
+// d = T - t_min in [0, t_max - t_min].
+fn fl_t_from_h_l(h: f32) -> f32 {
+    if h <= 0.0 {
+        return FL.t_min_hi + (FL.t_min_lo + h / FL.cp_l_lo);
+    }
+    if h >= FL.h_l_max {
+        return FL.t_max + (h - FL.h_l_max) / FL.cp_l_hi;
+    }
+    var d = clamp(h / FL.h_l_max * FL.t_span, 0.0, FL.t_span);
+    var lo = 0.0;
+    var hi = FL.t_span;
+    for (var i = 0; i < FL_NEWTON_ITER; i++) {
+        let x = d * FL.inv_t_half - 1.0;
+        let f = d * fl_poly(FL.h_l_mean, x) - h;
+        if f == 0.0 {
+            break;
+        }
+        if f > 0.0 {
+            hi = d;
+        } else {
+            lo = d;
+        }
+        let d_newton = d - f / fl_poly(FL.cp_l, x);
+        if abs(d_newton - d) <= FL_NEWTON_TOL * FL.t_half {
+            d = clamp(d_newton, 0.0, FL.t_span);
+            break;
+        }
+        d = select(0.5 * (lo + hi), d_newton, d_newton > lo && d_newton < hi);
+    }
+    return FL.t_min_hi + (FL.t_min_lo + d);
+}
+
+// Latent heat (J/kg) at t (K), clamped outside the range.
+fn fl_h_fg(t: f32) -> f32 {
+    return fl_poly(FL.h_fg, fl_x_clamped(t));
+}
+
+// Saturated-liquid conductivity (W/(m K)) at t (K), clamped outside the range.
+fn fl_k_l(t: f32) -> f32 {
+    return fl_poly(FL.k_l, fl_x_clamped(t));
+}
+
+// Saturated-liquid viscosity (Pa s) at t (K), clamped outside the range.
+fn fl_mu_l(t: f32) -> f32 {
+    return exp(fl_poly(FL.ln_mu_l, fl_x_clamped(t)));
+}
+
+// Vapour conductivity (W/(m K)) at t (K): power law.
+fn fl_k_v(t: f32) -> f32 {
+    return fl_power_law(FL.k_vapor_ref, FL.vapor_t_ref, FL.k_vapor_exp, FL.power_t_min, FL.power_t_max, t);
+}
+
+// Vapour viscosity (Pa s) at t (K): power law.
+fn fl_mu_v(t: f32) -> f32 {
+    return fl_power_law(FL.mu_vapor_ref, FL.vapor_t_ref, FL.mu_vapor_exp, FL.power_t_min, FL.power_t_max, t);
+}
+
+// Helium specific gas constant R_u / M, J/(kg K).
+fn he_r_specific() -> f32 {
+    return HE.r_specific;
+}
+
+// Helium conductivity (W/(m K)) at t (K): power law.
+fn he_k(t: f32) -> f32 {
+    return fl_power_law(HE.k_ref, HE.t_ref, HE.k_exp, HE.power_t_min, HE.power_t_max, t);
+}
+
+// Helium viscosity (Pa s) at t (K): power law.
+fn he_mu(t: f32) -> f32 {
+    return fl_power_law(HE.mu_ref, HE.t_ref, HE.mu_exp, HE.power_t_min, HE.power_t_max, t);
+}

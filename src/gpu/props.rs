@@ -1,0 +1,307 @@
+//! Host side of the f32 property kernels in `shaders/fluids.wgsl` and `shaders/geometry.wgsl`:
+//! one [`gpu_struct!`] per fluid, pressurant and tank, filled in f64 (end-point values,
+//! derivative coefficients, hi/lo splits) so the shaders avoid f32 cancellation.
+
+use crate::fluids::{
+    poly, poly_deriv, FluidProps, GasProps, LN_P_LIMIT, POWER_LAW_T_MAX_K, POWER_LAW_T_MIN_K,
+};
+use crate::geometry::{Shape, Tank};
+use crate::gpu_struct;
+
+/// `v` as an unevaluated f32 sum `hi + lo` (about 48 significant bits), for differences
+/// like `T − t_min` that must stay accurate when the operand is close to `v`.
+fn split(v: f64) -> (f32, f32) {
+    let hi = v as f32;
+    (hi, (v - f64::from(hi)) as f32)
+}
+
+/// Rounds eight f64 coefficients to f32.
+fn coefs(c: &[f64; 8]) -> [f32; 8] {
+    c.map(|a| a as f32)
+}
+
+/// Monomial coefficients of the derivative of `Σ c_i x^i` (last entry 0).
+fn deriv_coefs(c: &[f64; 8]) -> [f32; 8] {
+    let mut d = [0.0_f32; 8];
+    for i in 1..8 {
+        d[i - 1] = (i as f64 * c[i]) as f32;
+    }
+    d
+}
+
+/// Coefficients of `S(x) = (P(x) − P(−1)) / (x + 1)`, `P` the antiderivative of the `c_p`
+/// polynomial: the mean `c_p` over `[−1, x]`, so that `h_l = (T − t_min) S(x)` has no
+/// cancellation near `t_min`.
+fn mean_coefs(c: &[f64; 8]) -> [f32; 8] {
+    let mut e = [0.0_f32; 8];
+    for (j, ej) in e.iter_mut().enumerate() {
+        let sign = |i: usize| if (i - j) % 2 == 0 { 1.0 } else { -1.0 };
+        *ej = (j..8).map(|i| sign(i) * c[i] / (i + 1) as f64).sum::<f64>() as f32;
+    }
+    e
+}
+
+/// Largest `|ln P|` whose `exp` is a normal, finite f32 (`LN_P_LIMIT` narrowed to f32).
+fn ln_p_limit_f32() -> f32 {
+    LN_P_LIMIT.min(-f64::from(f32::MIN_POSITIVE).ln()).floor() as f32
+}
+
+gpu_struct! {
+    /// One propellant's [`FluidProps`] in f32 for `shaders/fluids.wgsl` (`FL`), with the
+    /// derived constants the shader would otherwise compute with cancellation.
+    pub struct GpuFluid {
+        /// `t_min_k` split as `hi + lo` (K).
+        pub t_min_hi: f32,
+        /// Low part of `t_min_k` (K).
+        pub t_min_lo: f32,
+        /// `t_max_k` (K).
+        pub t_max: f32,
+        /// `T_mid = (t_min + t_max) / 2` split as `hi + lo` (K).
+        pub t_mid_hi: f32,
+        /// Low part of `T_mid` (K).
+        pub t_mid_lo: f32,
+        /// `T_half = (t_max − t_min) / 2` (K).
+        pub t_half: f32,
+        /// `1 / T_half` (1/K).
+        pub inv_t_half: f32,
+        /// `t_max − t_min` (K).
+        pub t_span: f32,
+        /// `ln P_sat` at `x = −1`.
+        pub ln_psat_lo: f32,
+        /// Slope of `ln P_sat` in `x` at `x = −1`.
+        pub ln_psat_slope_lo: f32,
+        /// `ln P_sat` at `x = 1`.
+        pub ln_psat_hi: f32,
+        /// Slope of `ln P_sat` in `x` at `x = 1`.
+        pub ln_psat_slope_hi: f32,
+        /// Limit on `|ln P_sat|` (the Rust limit, narrowed so `exp` stays a normal f32).
+        pub ln_p_limit: f32,
+        /// `c_p,l` at `t_min` (J/(kg K)).
+        pub cp_l_lo: f32,
+        /// `c_p,l` at `t_max` (J/(kg K)).
+        pub cp_l_hi: f32,
+        /// `h_l(t_max)` (J/kg).
+        pub h_l_max: f32,
+        /// Vapour specific gas constant `R_u / M` (J/(kg K)).
+        pub r_specific: f32,
+        /// Vapour ideal-gas `c_p` (J/(kg K)), for the kernels.
+        pub cp_vapor: f32,
+        /// Vapour ideal-gas `c_v` (J/(kg K)), for the kernels.
+        pub cv_vapor: f32,
+        /// Vapour conductivity at `vapor_t_ref` (W/(m K)).
+        pub k_vapor_ref: f32,
+        /// Vapour conductivity power-law exponent.
+        pub k_vapor_exp: f32,
+        /// Vapour viscosity at `vapor_t_ref` (Pa s).
+        pub mu_vapor_ref: f32,
+        /// Vapour viscosity power-law exponent.
+        pub mu_vapor_exp: f32,
+        /// Reference temperature of the vapour power laws (K).
+        pub vapor_t_ref: f32,
+        /// Lower temperature clamp of the power laws (K).
+        pub power_t_min: f32,
+        /// Upper temperature clamp of the power laws (K).
+        pub power_t_max: f32,
+        /// `ln P_sat` coefficients.
+        pub ln_psat: [f32; 8],
+        /// Derivative coefficients of `ln P_sat` in `x`.
+        pub ln_psat_d: [f32; 8],
+        /// `ρ_l` coefficients (kg/m³).
+        pub rho_l: [f32; 8],
+        /// Derivative coefficients of `ρ_l` in `x` (kg/m³).
+        pub rho_l_d: [f32; 8],
+        /// `c_p,l` coefficients (J/(kg K)).
+        pub cp_l: [f32; 8],
+        /// Mean-`c_p` coefficients: `h_l = (T − t_min) Σ m_i x^i` inside the range (J/(kg K)).
+        pub h_l_mean: [f32; 8],
+        /// `h_fg` coefficients (J/kg).
+        pub h_fg: [f32; 8],
+        /// `k_l` coefficients (W/(m K)).
+        pub k_l: [f32; 8],
+        /// `ln μ_l` coefficients.
+        pub ln_mu_l: [f32; 8],
+    }
+}
+
+impl GpuFluid {
+    /// The f32 table of `f`, derived constants computed in f64.
+    pub fn new(f: &FluidProps) -> GpuFluid {
+        let (t_min_hi, t_min_lo) = split(f.t_min_k);
+        let t_mid = 0.5 * (f.t_min_k + f.t_max_k);
+        let t_half = 0.5 * (f.t_max_k - f.t_min_k);
+        let (t_mid_hi, t_mid_lo) = split(t_mid);
+        GpuFluid {
+            t_min_hi,
+            t_min_lo,
+            t_max: f.t_max_k as f32,
+            t_mid_hi,
+            t_mid_lo,
+            t_half: t_half as f32,
+            inv_t_half: (1.0 / t_half) as f32,
+            t_span: (f.t_max_k - f.t_min_k) as f32,
+            ln_psat_lo: poly(&f.ln_psat, -1.0) as f32,
+            ln_psat_slope_lo: poly_deriv(&f.ln_psat, -1.0) as f32,
+            ln_psat_hi: poly(&f.ln_psat, 1.0) as f32,
+            ln_psat_slope_hi: poly_deriv(&f.ln_psat, 1.0) as f32,
+            ln_p_limit: ln_p_limit_f32(),
+            cp_l_lo: poly(&f.cp_l, -1.0) as f32,
+            cp_l_hi: poly(&f.cp_l, 1.0) as f32,
+            h_l_max: f.h_l_j_per_kg(f.t_max_k) as f32,
+            r_specific: f.r_specific_j_per_kg_k() as f32,
+            cp_vapor: f.cp_vapor_j_per_kg_k as f32,
+            cv_vapor: f.cv_vapor_j_per_kg_k as f32,
+            k_vapor_ref: f.k_vapor_ref_w_per_m_k as f32,
+            k_vapor_exp: f.k_vapor_exp as f32,
+            mu_vapor_ref: f.mu_vapor_ref_pa_s as f32,
+            mu_vapor_exp: f.mu_vapor_exp as f32,
+            vapor_t_ref: f.vapor_t_ref_k as f32,
+            power_t_min: POWER_LAW_T_MIN_K as f32,
+            power_t_max: POWER_LAW_T_MAX_K as f32,
+            ln_psat: coefs(&f.ln_psat),
+            ln_psat_d: deriv_coefs(&f.ln_psat),
+            rho_l: coefs(&f.rho_l),
+            rho_l_d: deriv_coefs(&f.rho_l),
+            cp_l: coefs(&f.cp_l),
+            h_l_mean: mean_coefs(&f.cp_l),
+            h_fg: coefs(&f.h_fg),
+            k_l: coefs(&f.k_l),
+            ln_mu_l: coefs(&f.ln_mu_l),
+        }
+    }
+}
+
+gpu_struct! {
+    /// The helium pressurant's [`GasProps`] in f32 for `shaders/fluids.wgsl` (`HE`).
+    pub struct GpuGas {
+        /// Specific gas constant `R_u / M` (J/(kg K)).
+        pub r_specific: f32,
+        /// Ideal-gas `c_p` (J/(kg K)), for the kernels.
+        pub cp: f32,
+        /// Ideal-gas `c_v` (J/(kg K)), for the kernels.
+        pub cv: f32,
+        /// Conductivity at `t_ref` (W/(m K)).
+        pub k_ref: f32,
+        /// Conductivity power-law exponent.
+        pub k_exp: f32,
+        /// Viscosity at `t_ref` (Pa s).
+        pub mu_ref: f32,
+        /// Viscosity power-law exponent.
+        pub mu_exp: f32,
+        /// Reference temperature of the power laws (K).
+        pub t_ref: f32,
+        /// Lower temperature clamp of the power laws (K).
+        pub power_t_min: f32,
+        /// Upper temperature clamp of the power laws (K).
+        pub power_t_max: f32,
+    }
+}
+
+impl GpuGas {
+    /// The f32 constants of `g`.
+    pub fn new(g: &GasProps) -> GpuGas {
+        GpuGas {
+            r_specific: g.r_specific_j_per_kg_k() as f32,
+            cp: g.cp_j_per_kg_k as f32,
+            cv: g.cv_j_per_kg_k as f32,
+            k_ref: g.k_ref_w_per_m_k as f32,
+            k_exp: g.k_exp as f32,
+            mu_ref: g.mu_ref_pa_s as f32,
+            mu_exp: g.mu_exp as f32,
+            t_ref: g.t_ref_k as f32,
+            power_t_min: POWER_LAW_T_MIN_K as f32,
+            power_t_max: POWER_LAW_T_MAX_K as f32,
+        }
+    }
+}
+
+gpu_struct! {
+    /// A [`Tank`] in f32 for `shaders/geometry.wgsl` (`TANK`): its dimensions and totals,
+    /// with the top height and total volume split `hi + lo` for cancellation-free depths
+    /// below the top.
+    pub struct GpuTank {
+        /// Shape code: 1 for a domed tank (capsule or sphere), 0 for a cylinder.
+        pub domed: u32,
+        /// Radius `R` (m).
+        pub radius: f32,
+        /// Cylinder length `L` (m).
+        pub length: f32,
+        /// Dome ratio `k`.
+        pub k: f32,
+        /// Dome height `a = k R` (m).
+        pub a: f32,
+        /// `e = 1 − k²`.
+        pub e: f32,
+        /// `√|e|`.
+        pub sqrt_abs_e: f32,
+        /// `c = k² R` (m).
+        pub c: f32,
+        /// `1 / k²`.
+        pub inv_k2: f32,
+        /// Height of the top of the cylindrical part, `a + L` (m).
+        pub z_top_cyl: f32,
+        /// Total height `H` split as `hi + lo` (m).
+        pub height_hi: f32,
+        /// Low part of `H` (m).
+        pub height_lo: f32,
+        /// Total volume split as `hi + lo` (m³).
+        pub volume_hi: f32,
+        /// Low part of the total volume (m³).
+        pub volume_lo: f32,
+        /// Total wall area (m²).
+        pub wall_area: f32,
+        /// Volume of one dome (m³).
+        pub dome_volume: f32,
+        /// Wall area of one dome, or the end disc of a cylinder (m²).
+        pub dome_area: f32,
+        /// Cross-section `π R²` (m²).
+        pub disc_area: f32,
+        /// `2π R` (m).
+        pub two_pi_r: f32,
+        /// `π / k²`.
+        pub pi_over_k2: f32,
+    }
+}
+
+impl GpuTank {
+    /// The f32 description of `t`, derived constants computed in f64.
+    pub fn new(t: &Tank) -> GpuTank {
+        use std::f64::consts::PI;
+        let k = t.dome_ratio();
+        let (height_hi, height_lo) = split(t.height_m());
+        let (volume_hi, volume_lo) = split(t.volume_m3());
+        GpuTank {
+            domed: u32::from(t.shape() != Shape::Cylinder),
+            radius: t.radius_m() as f32,
+            length: t.length_m() as f32,
+            k: k as f32,
+            a: t.dome_height_m() as f32,
+            e: t.dome_e() as f32,
+            sqrt_abs_e: t.dome_e().abs().sqrt() as f32,
+            c: t.dome_c_m() as f32,
+            inv_k2: (1.0 / (k * k)) as f32,
+            z_top_cyl: (t.dome_height_m() + t.length_m()) as f32,
+            height_hi,
+            height_lo,
+            volume_hi,
+            volume_lo,
+            wall_area: t.wall_area_m2() as f32,
+            dome_volume: t.dome_volume_m3() as f32,
+            dome_area: t.dome_area_m2() as f32,
+            disc_area: t.disc_area_m2() as f32,
+            two_pi_r: (2.0 * PI * t.radius_m()) as f32,
+            pi_over_k2: (PI / (k * k)) as f32,
+        }
+    }
+}
+
+/// WGSL source of the property library: the `GpuFluid`, `GpuGas` and `GpuTank` declarations,
+/// then `shaders/fluids.wgsl` and `shaders/geometry.wgsl`. Kernels append their entry points
+/// and assign `FL`, `HE` and `TANK` once per invocation.
+pub fn props_wgsl() -> String {
+    let mut s = GpuFluid::wgsl();
+    s += &GpuGas::wgsl();
+    s += &GpuTank::wgsl();
+    s += include_str!("../../shaders/fluids.wgsl");
+    s += include_str!("../../shaders/geometry.wgsl");
+    s
+}
