@@ -11,9 +11,6 @@ const GEO_TAU: f32 = 6.2831855;
 const GEO_F32_EPS: f32 = 1.1920929e-7;
 // Iteration cap of the cap-fraction Newton solver (converges in <= 4 from the Viete root).
 const GEO_NEWTON_ITER: i32 = 16;
-// Below this argument asinh(x)/x and asin(x)/x use their Taylor series (11 terms, truncation
-// < 3e-9); above it the closed forms are accurate in f32.
-const GEO_SERIES_LIMIT: f32 = 0.5;
 
 fn tank_radius() -> f32 {
     return TANK.radius;
@@ -67,20 +64,31 @@ fn tank_zone_integrand(w: f32) -> f32 {
     return sqrt(TANK.a * TANK.a - TANK.e * w * (2.0 * TANK.a - w));
 }
 
-// sum_n c_n y^n with c_n = (2n)! / (4^n (n!)^2 (2n + 1)): asin(x)/x at y = x^2 and
-// asinh(x)/x at y = -x^2.
-fn tank_arc_series(y: f32) -> f32 {
-    return 1.0 + y * (0.16666667 + y * (0.075 + y * (0.044642857 + y * (0.030381944
-        + y * (0.022372159 + y * (0.017352764 + y * (0.013964844 + y * (0.011551801
-        + y * (0.0097616095 + y * 0.0083903358)))))))));
+// atanh(sqrt(z)) / sqrt(z) = sum_n z^n / (2n + 1), and atan(sqrt(-z)) / sqrt(-z) for z < 0;
+// 11 terms, truncation < 2e-10 for |z| <= tan^2(pi/8) = 0.172, where it is used.
+fn tank_atanh_series(z: f32) -> f32 {
+    return 1.0 + z * (1.0 / 3.0 + z * (1.0 / 5.0 + z * (1.0 / 7.0 + z * (1.0 / 9.0 + z * (1.0 / 11.0
+        + z * (1.0 / 13.0 + z * (1.0 / 15.0 + z * (1.0 / 17.0 + z * (1.0 / 19.0 + z / 21.0)))))))));
 }
 
-// asinh(x) / x for x >= 0.
+// asinh(x) / x for x >= 0: below 1 as 2 atanh(y) / x with y = tanh(asinh(x) / 2) <= 0.414,
+// which avoids log near 1 (GPU log is only accurate in absolute terms there); above 1 by log.
 fn tank_asinh_over_x(x: f32) -> f32 {
-    if x < GEO_SERIES_LIMIT {
-        return tank_arc_series(-x * x);
+    let s = 1.0 + sqrt(1.0 + x * x);
+    if x < 1.0 {
+        let y = x / s;
+        return 2.0 / s * tank_atanh_series(y * y);
     }
     return log(x + sqrt(1.0 + x * x)) / x;
+}
+
+// asin(d) / d for the angle theta = asin(d) in [0, pi/2) given cos_d = cos(theta) (from positive
+// terms): theta = 4 atan(tan(theta / 4)), tan(theta / 4) <= 0.414, so no atan2/asin is needed.
+fn tank_asin_over_x(d: f32, cos_d: f32) -> f32 {
+    let t = d / (1.0 + cos_d);
+    let s = 1.0 + sqrt(1.0 + t * t);
+    let t4 = t / s;
+    return 4.0 * tank_atanh_series(-t4 * t4) / ((1.0 + cos_d) * s);
 }
 
 // Wall area (m2) of a dome zone of depth w (m) from the pole, in the cancellation-free
@@ -103,11 +111,9 @@ fn tank_zone_area(w_in: f32) -> f32 {
     var g: f32;
     if TANK.e > 0.0 {
         g = tank_asinh_over_x(d);
-    } else if d < GEO_SERIES_LIMIT {
-        g = tank_arc_series(d * d);
     } else {
-        let cos_d = (big1 * big2 + abs(TANK.e) * s1 * s2) / c2;
-        g = atan2(d, cos_d) / d;
+        // cos(asin x2 - asin x1) = (S1 S2 + |e| s1 s2) / c^2, a sum of positive terms.
+        g = tank_asin_over_x(d, (big1 * big2 + abs(TANK.e) * s1 * s2) / c2);
     }
     let term2 = c2 * g / cross;
     let integral = 0.5 * ds2 * (term1 + term2);
@@ -138,14 +144,15 @@ fn tank_solve_cap_fraction(q: f32) -> f32 {
             return t;
         }
         let fp = 3.0 * t * (2.0 - t);
-        var next = t - f / fp;
-        if !(next > lo && next < hi) {
-            next = 0.5 * (lo + hi);
+        let newton = t - f / fp;
+        // Checked before the bracket test: in f32 a converged step can land on the bracket end.
+        if abs(newton - t) <= 2.0 * GEO_F32_EPS * t {
+            return clamp(newton, lo, hi);
         }
-        if abs(next - t) <= 2.0 * GEO_F32_EPS * t || hi - lo <= GEO_F32_EPS * hi {
-            return next;
+        t = select(0.5 * (lo + hi), newton, newton > lo && newton < hi);
+        if hi - lo <= GEO_F32_EPS * hi {
+            return t;
         }
-        t = next;
     }
     return t;
 }
