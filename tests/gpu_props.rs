@@ -370,6 +370,14 @@ fn run(
     bytemuck::cast_slice(&view).to_vec()
 }
 
+/// One case's expectation: function index, fluid or tank label, f32 input, Rust f64 value.
+struct Reference {
+    func: usize,
+    obj: String,
+    arg: f32,
+    rust: f64,
+}
+
 /// Relative error of `gpu` against `rust`; against a zero reference, `|gpu|` relative to
 /// `scale` (the largest reference magnitude of that function on that fluid or tank).
 fn rel_err(gpu: f32, rust: f64, scale: f64) -> f64 {
@@ -398,9 +406,8 @@ fn wgsl_props_match_rust() {
     let tanks = tanks();
     let gpu_tanks: Vec<GpuTank> = tanks.iter().map(|(t, _)| GpuTank::new(t)).collect();
 
-    // (function index, object label, input, Rust f64 reference) per case.
     let mut cases = Vec::new();
-    let mut refs: Vec<(usize, String, f32, f64)> = Vec::new();
+    let mut refs: Vec<Reference> = Vec::new();
     for (fi, &(_, grid, rust, _)) in FLUID_FUNCS.iter().enumerate() {
         for (oi, fluid) in Fluid::ALL.iter().enumerate() {
             for arg in fluid_grid(grid, fluid.props()) {
@@ -409,12 +416,12 @@ fn wgsl_props_match_rust() {
                     obj: oi as u32,
                     arg,
                 });
-                refs.push((
-                    fi,
-                    fluid.name().into(),
+                refs.push(Reference {
+                    func: fi,
+                    obj: fluid.name().into(),
                     arg,
-                    rust(fluid.props(), f64::from(arg)),
-                ));
+                    rust: rust(fluid.props(), f64::from(arg)),
+                });
             }
         }
     }
@@ -428,7 +435,12 @@ fn wgsl_props_match_rust() {
                     arg,
                 });
                 let label = format!("{} #{oi}", tank.shape().name());
-                refs.push((fi, label, arg, rust(tank, f64::from(arg))));
+                refs.push(Reference {
+                    func: fi,
+                    obj: label,
+                    arg,
+                    rust: rust(tank, f64::from(arg)),
+                });
             }
         }
     }
@@ -447,22 +459,24 @@ fn wgsl_props_match_rust() {
         .collect();
     let mut failures = Vec::new();
     for (fi, name) in names.iter().enumerate() {
-        let rows: Vec<(&(usize, String, f32, f64), f32)> = refs
+        let rows: Vec<(&Reference, f32)> = refs
             .iter()
             .zip(&out)
-            .filter(|(r, _)| r.0 == fi)
+            .filter(|(r, _)| r.func == fi)
             .map(|(r, &g)| (r, g))
             .collect();
         let mut worst = (0.0_f64, String::new(), 0.0_f32, 0.0_f64, 0.0_f32);
         for &(r, g) in &rows {
             let scale = rows
                 .iter()
-                .filter(|(s, _)| s.1 == r.1)
-                .map(|(s, _)| s.3.abs())
+                .filter(|(s, _)| s.obj == r.obj)
+                .map(|(s, _)| s.rust.abs())
                 .fold(0.0, f64::max);
-            let e = rel_err(g, r.3, scale);
-            if !(e <= worst.0) {
-                worst = (e, r.1.clone(), r.2, r.3, g);
+            // A NaN result counts as an infinite error.
+            let e = rel_err(g, r.rust, scale);
+            let e = if e.is_nan() { f64::INFINITY } else { e };
+            if e >= worst.0 {
+                worst = (e, r.obj.clone(), r.arg, r.rust, g);
             }
         }
         let (e, obj, arg, rust, gpu) = worst;
@@ -470,7 +484,7 @@ fn wgsl_props_match_rust() {
             "{name:28} max rel err {e:9.2e} (tol {:.0e}) at {obj} arg {arg:e}: rust {rust:e} gpu {gpu:e}",
             tols[fi]
         );
-        if !(e <= tols[fi]) {
+        if e > tols[fi] {
             failures.push(*name);
         }
     }

@@ -35,7 +35,7 @@ fn deriv_coefs(c: &[f64; 8]) -> [f32; 8] {
 fn mean_coefs(c: &[f64; 8]) -> [f32; 8] {
     let mut e = [0.0_f32; 8];
     for (j, ej) in e.iter_mut().enumerate() {
-        let sign = |i: usize| if (i - j) % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = |i: usize| if (i - j).is_multiple_of(2) { 1.0 } else { -1.0 };
         *ej = (j..8).map(|i| sign(i) * c[i] / (i + 1) as f64).sum::<f64>() as f32;
     }
     e
