@@ -5,7 +5,7 @@
 var<private> FL: GpuFluid;
 var<private> HE: GpuGas;
 
-// Newton iterations of fl_tsat_k and fl_t_from_h_l: bracketed, converge in < 6 from the guess.
+// Iteration cap of the bracketed Newton solvers fl_tsat_k and fl_t_from_h_l (a few suffice).
 const FL_NEWTON_ITER: i32 = 16;
 // Newton steps below this (in x, |x| <= 1) are accepted as converged: a few f32 ulps.
 const FL_NEWTON_TOL: f32 = 2e-7;

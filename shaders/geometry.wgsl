@@ -9,7 +9,7 @@ var<private> TANK: GpuTank;
 // 2 pi and the f32 machine epsilon (mathematical constants of the cap solver).
 const GEO_TAU: f32 = 6.2831855;
 const GEO_F32_EPS: f32 = 1.1920929e-7;
-// Iteration cap of the cap-fraction Newton solver (converges in <= 4 from the Viete root).
+// Iteration cap of the cap-fraction Newton solver (a few suffice from the Viete root).
 const GEO_NEWTON_ITER: i32 = 16;
 
 fn tank_radius() -> f32 {

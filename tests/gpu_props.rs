@@ -5,8 +5,7 @@
 //! listed per function. Skipped (with a message) when there is no GPU adapter, unless
 //! `CRYOSLOSH_REQUIRE_GPU=1`.
 
-use cryoslosh::fluids::Fluid;
-use cryoslosh::fluids::{FluidProps, HELIUM};
+use cryoslosh::fluids::{Fluid, FluidProps, HELIUM};
 use cryoslosh::geometry::{Shape, Tank};
 use cryoslosh::gpu::props::{props_wgsl, GpuFluid, GpuGas, GpuTank};
 use cryoslosh::gpu_struct;
