@@ -34,7 +34,7 @@ fn engine(c: &mut Criterion) {
     for threads in [1, 2] {
         let e = CpuEngine::new(threads).expect("thread pool");
         group.bench_function(format!("cpu_{threads}_threads"), |b| {
-            b.iter(|| e.run_block(&plan, 0..INSTANCES))
+            b.iter(|| e.run_block(&plan, 0..INSTANCES).unwrap())
         });
     }
     group.finish();

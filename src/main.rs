@@ -5,6 +5,8 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cryoslosh::campaign::{Campaign, CampaignError};
 use cryoslosh::engine::{Backend, CpuEngine};
+use cryoslosh::gpu::context::{self, GpuError};
+use cryoslosh::gpu::engine::GpuEngine;
 use cryoslosh::montecarlo::{self, RunError, RunOptions, Shard};
 use cryoslosh::simulate::{self, History};
 use std::path::PathBuf;
@@ -58,7 +60,8 @@ enum Command {
         /// Random seed (default: campaign.seed).
         #[arg(long)]
         seed: Option<u64>,
-        /// Backend: cpu, gpu or auto (auto uses the CPU until the GPU backend lands).
+        /// Backend: cpu, gpu (any Vulkan adapter, Mesa's software lavapipe included) or auto
+        /// (a hardware GPU when there is one, else the CPU).
         #[arg(long, default_value = "auto")]
         backend: String,
         /// Worker threads (0: one per core).
@@ -74,6 +77,8 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
+    /// List the GPU adapters the WGSL backend can use (name, backend, type, limits).
+    Devices,
     /// Join shard directories of one campaign into DIR, equal to the unsharded run.
     Merge {
         /// Shard output directories.
@@ -189,19 +194,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     ))
                 })?,
             };
-            let backend = match backend.as_str() {
-                "cpu" | "auto" => Backend::Cpu(CpuEngine::new(threads)?),
-                "gpu" => return Err(BadInput(
-                    "--backend gpu: this build has no GPU backend yet; use --backend cpu (or auto)"
-                        .into(),
-                )
-                .into()),
-                other => {
-                    return Err(
-                        BadInput(format!("--backend {other}: expected cpu, gpu or auto")).into(),
-                    )
-                }
-            };
+            let backend = select_backend(&backend, threads)?;
             let opts = RunOptions {
                 out_dir: out,
                 instances: instances.unwrap_or(c.instances),
@@ -218,11 +211,34 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             );
             Ok(())
         }
+        Command::Devices => {
+            print!("{}", context::describe_adapters(&context::adapters()));
+            Ok(())
+        }
         Command::Merge { dirs, out } => {
             let report = montecarlo::merge(&dirs, &out)?;
             print!("{}", montecarlo::summary_text(&report));
             println!("merged {} shards into {}", dirs.len(), out.display());
             Ok(())
         }
+    }
+}
+
+/// The engine for `--backend`: `gpu` opens any adapter (software included) or fails with exit
+/// code 2; `auto` takes a hardware GPU when one opens, else the CPU.
+fn select_backend(name: &str, threads: usize) -> anyhow::Result<Backend> {
+    let gpu = |hardware_only: bool| context::open(hardware_only).and_then(GpuEngine::new);
+    match name {
+        "cpu" => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
+        "gpu" => match gpu(false) {
+            Ok(e) => Ok(Backend::Gpu(Box::new(e))),
+            Err(e @ GpuError::NoAdapter) => Err(BadInput(format!("--backend gpu: {e}")).into()),
+            Err(e) => Err(e.into()),
+        },
+        "auto" => match gpu(true) {
+            Ok(e) => Ok(Backend::Gpu(Box::new(e))),
+            Err(_) => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
+        },
+        other => Err(BadInput(format!("--backend {other}: expected cpu, gpu or auto")).into()),
     }
 }

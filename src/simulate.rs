@@ -234,31 +234,50 @@ impl Tracker {
             .max(force * p.vehicle.slosh_lever_arm_m.abs());
     }
 
-    fn finish(mut self, p: &Params, t: f64, s: &State, x: &Derived, steps: u64) -> Summary {
-        let q = &mut self.summary;
-        let s0 = &self.s0;
-        q.final_time_s = t;
-        q.steps = steps;
-        q.vented_vapor_kg = s[VENT_V];
-        q.vented_helium_kg = s[VENT_G];
-        q.vented_kg = s[VENT_V] + s[VENT_G];
-        q.pressurant_used_kg = s[PRESS_IN];
-        q.propellant_drawn_kg = s[OUT];
-        q.boiloff_kg = x.m_vapor_kg - initial_vapor_mass(p, s0) + s[VENT_V];
-        q.final_stratification_k = x.t_layer_k - x.t_bulk_k;
-        q.final_pressure_pa = x.p_ullage_pa;
-        q.cavitation = q.min_cavitation_margin_m.is_some_and(|m| m < 0.0);
-        q.overpressure = q.peak_pressure_pa > p.meop_pa;
-        let m0 = mass_invariant(s0);
-        q.mass_error_rel = (mass_invariant(s) - m0).abs() / m0.abs();
-        q.energy_error_rel =
-            (energy_invariant(s) - energy_invariant(s0)).abs() / energy_scale(s0, s);
-        self.summary
+    fn finish(self, p: &Params, t: f64, s: &State, x: &Derived, steps: u64) -> Summary {
+        let m_vapor0 = initial_vapor_mass(p, &self.s0);
+        finish_summary(self.summary, p, &self.s0, m_vapor0, t, s, x, steps)
     }
 }
 
+/// Complete the running extremes in `q` with the end-of-run quantities: final state `s` at time
+/// `t` after `steps` steps from `s0` (initial vapour mass `m_vapor0`), its derived quantities `x`
+/// (temperatures, vapour mass, pressure). Shared by every backend so that flags and closures are
+/// computed one way.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the end-of-run facts, each named"
+)]
+pub fn finish_summary(
+    mut q: Summary,
+    p: &Params,
+    s0: &State,
+    m_vapor0: f64,
+    t: f64,
+    s: &State,
+    x: &Derived,
+    steps: u64,
+) -> Summary {
+    q.final_time_s = t;
+    q.steps = steps;
+    q.vented_vapor_kg = s[VENT_V];
+    q.vented_helium_kg = s[VENT_G];
+    q.vented_kg = s[VENT_V] + s[VENT_G];
+    q.pressurant_used_kg = s[PRESS_IN];
+    q.propellant_drawn_kg = s[OUT];
+    q.boiloff_kg = x.m_vapor_kg - m_vapor0 + s[VENT_V];
+    q.final_stratification_k = x.t_layer_k - x.t_bulk_k;
+    q.final_pressure_pa = x.p_ullage_pa;
+    q.cavitation = q.min_cavitation_margin_m.is_some_and(|m| m < 0.0);
+    q.overpressure = q.peak_pressure_pa > p.meop_pa;
+    let m0 = mass_invariant(s0);
+    q.mass_error_rel = (mass_invariant(s) - m0).abs() / m0.abs();
+    q.energy_error_rel = (energy_invariant(s) - energy_invariant(s0)).abs() / energy_scale(s0, s);
+    q
+}
+
 /// Vapour mass of the initial state (homogeneous keeps it implicit in the equilibrium).
-fn initial_vapor_mass(p: &Params, s0: &State) -> f64 {
+pub fn initial_vapor_mass(p: &Params, s0: &State) -> f64 {
     match p.fidelity {
         Fidelity::Homogeneous => model::derive::derive(p, s0, &Drive::default()).m_vapor_kg,
         _ => s0[M_V],

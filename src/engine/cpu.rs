@@ -36,12 +36,12 @@ impl Engine for CpuEngine {
         format!("cpu: {} threads", self.threads)
     }
 
-    fn run_block(&self, plan: &Plan, range: Range<u64>) -> Vec<InstanceRecord> {
-        self.pool.install(|| {
+    fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
+        Ok(self.pool.install(|| {
             range
                 .into_par_iter()
                 .map(|i| plan.run_instance(i))
                 .collect()
-        })
+        }))
     }
 }

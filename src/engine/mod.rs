@@ -20,13 +20,15 @@ pub trait Engine {
     fn name(&self) -> &'static str;
     /// What runs the instances, for run.json ("cpu: 2 threads").
     fn device(&self) -> String;
-    /// Integrate the instances in `range`, returned in index order.
-    fn run_block(&self, plan: &Plan, range: Range<u64>) -> Vec<InstanceRecord>;
+    /// Integrate the instances in `range`, returned in index order; `Err` says why the
+    /// device failed (the CPU never does).
+    fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String>;
 }
 
 /// The backend chosen on the command line.
 pub enum Backend {
     Cpu(CpuEngine),
+    Gpu(Box<crate::gpu::engine::GpuEngine>),
 }
 
 impl Backend {
@@ -34,6 +36,7 @@ impl Backend {
     pub fn engine(&self) -> &dyn Engine {
         match self {
             Backend::Cpu(e) => e,
+            Backend::Gpu(e) => e.as_ref(),
         }
     }
 }

@@ -11,7 +11,7 @@ use crate::fluids::HELIUM;
 use crate::geometry::Tank;
 
 /// Smallest wetted or dry share of the wall mass: keeps both wall nodes finite at 0 % and 100 %.
-const MIN_WALL_SHARE: f64 = 1.0e-3;
+pub const MIN_WALL_SHARE: f64 = 1.0e-3;
 
 /// Wetted share of the wall area at level `z`, clamped to [MIN_WALL_SHARE, 1 − MIN_WALL_SHARE].
 pub fn wetted_fraction(tank: &Tank, z: f64) -> f64 {

@@ -15,7 +15,7 @@ pub const XI: [f64; 2] = [1.841_18, 5.331_44];
 pub const MIN_AXIAL_ACCEL: f64 = 1.0e-6;
 
 /// Shallowest equivalent depth ratio h/R, so that modal formulas stay finite near empty.
-const MIN_DEPTH_RATIO: f64 = 0.02;
+pub const MIN_DEPTH_RATIO: f64 = 0.02;
 
 /// Dimensionless properties of slosh mode `n` (0-based) at depth ratio h/R.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -90,6 +90,8 @@ pub enum RunError {
     Read(#[from] ReadError),
     #[error("{0}")]
     Input(String),
+    #[error("backend failed: {0}")]
+    Engine(String),
 }
 
 /// Check run options against the campaign before anything is written.
@@ -184,7 +186,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let mut at = range.start;
     while at < range.end {
         let end = (at + o.chunk_size).min(range.end);
-        for r in engine.run_block(&plan, at..end) {
+        for r in engine.run_block(&plan, at..end).map_err(RunError::Engine)? {
             steps += r.summary.steps;
             diverged += u64::from(r.summary.diverged);
             rejected += u64::from(r.rejected);
@@ -209,6 +211,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         device: engine.device(),
         threads: match backend {
             Backend::Cpu(e) => e.threads(),
+            Backend::Gpu(_) => rayon::current_num_threads(),
         },
         seed: o.seed,
         shard: o.shard.to_string(),

@@ -1,0 +1,387 @@
+//! The WGSL engine: instances are sampled and resolved on the CPU (rayon), uploaded as f32
+//! records, integrated through their whole phase list by `shaders/model.wgsl` (one instance per
+//! invocation) and only the quantities of interest come back.
+//!
+//! Batches respect the adapter's storage-binding size and 65,535 workgroups per dimension.
+//! Instances the kernel cannot take (a propellant other than the campaign's) run on the CPU.
+
+use super::context::{Gpu, GpuError};
+use super::params::{
+    fluid_records, join, GpuControl, GpuParams, GpuPhase, GpuResult, DIVERGED_REASONS,
+};
+use super::props::{props_wgsl, GpuFluid, GpuGas};
+use crate::engine::Engine;
+use crate::model::derive::Derived;
+use crate::model::flight::Phase;
+use crate::model::params::{Fidelity, Params};
+use crate::model::state::{State, M_V, NS};
+use crate::montecarlo::plan::{sample_inputs, InstanceRecord, Plan};
+use crate::simulate::{finish_summary, initial_state, Summary};
+use rayon::prelude::*;
+use std::ops::Range;
+use wgpu::util::DeviceExt;
+
+/// Invocations per workgroup (the kernel's `@workgroup_size`).
+const WORKGROUP: u32 = 64;
+
+/// The whole kernel source: generated constants and structs, then the shader files.
+pub fn kernel_source() -> String {
+    [
+        super::params::constants_wgsl(),
+        props_wgsl(),
+        GpuParams::wgsl(),
+        GpuPhase::wgsl(),
+        GpuResult::wgsl(),
+        GpuControl::wgsl(),
+        include_str!("../../shaders/model.wgsl").to_string(),
+    ]
+    .join("\n")
+}
+
+/// Integrates instances with the WGSL kernel.
+pub struct GpuEngine {
+    gpu: Gpu,
+    pipeline: wgpu::ComputePipeline,
+}
+
+/// One instance ready for the device, or already finished on the CPU.
+enum Prepared {
+    Device(Box<DeviceInstance>),
+    Done(Box<InstanceRecord>),
+}
+
+/// An instance's resolved inputs, kept for the upload and for completing its summary.
+struct DeviceInstance {
+    inputs: Vec<f64>,
+    params: Params,
+    phases: Vec<Phase>,
+    s0: State,
+}
+
+impl GpuEngine {
+    /// Compile the kernel on `gpu`.
+    pub fn new(gpu: Gpu) -> Result<GpuEngine, GpuError> {
+        let device = &gpu.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("cryoslosh model"),
+            source: wgpu::ShaderSource::Wgsl(kernel_source().into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("cryoslosh model"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Runtime(format!(
+                "the model kernel failed to compile: {e}"
+            )));
+        }
+        Ok(GpuEngine { gpu, pipeline })
+    }
+
+    /// The adapter this engine runs on.
+    pub fn adapter(&self) -> &super::context::AdapterSummary {
+        &self.gpu.info
+    }
+
+    /// Steps per instance per dispatch: llvmpipe caps an invocation at 65,535 loop iterations
+    /// in all (about 120 per lumped step), hardware only needs dispatches short enough for a
+    /// display watchdog.
+    fn step_budget(&self) -> u32 {
+        if self.gpu.info.hardware {
+            1024
+        } else {
+            128
+        }
+    }
+
+    /// Largest batch of `n_phases`-phase instances one dispatch may hold.
+    fn max_batch(&self, n_phases: usize) -> usize {
+        let binding = self
+            .gpu
+            .info
+            .max_storage_binding_bytes
+            .min(self.gpu.info.max_buffer_bytes);
+        let per = [
+            size_of::<GpuParams>(),
+            size_of::<GpuResult>(),
+            n_phases.max(1) * size_of::<GpuPhase>(),
+        ]
+        .into_iter()
+        .max()
+        .unwrap_or(1) as u64;
+        let by_memory = (binding / per) as usize;
+        let by_groups = self.gpu.info.max_workgroups_per_dimension as usize * WORKGROUP as usize;
+        by_memory.min(by_groups).max(1)
+    }
+
+    /// Integrate prepared device instances; results in the same order.
+    fn dispatch(
+        &self,
+        fluid: &GpuFluid,
+        gas: &GpuGas,
+        params: &[GpuParams],
+        phases: &[GpuPhase],
+        table: &[f32],
+        max_steps: u64,
+    ) -> Result<Vec<GpuResult>, GpuError> {
+        let device = &self.gpu.device;
+        let storage = |label: &str, bytes: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let table = if table.is_empty() {
+            &[0.0f32][..]
+        } else {
+            table
+        };
+        let b_params = storage("params", bytemuck::cast_slice(params));
+        let b_phases = storage("phases", bytemuck::cast_slice(phases));
+        let b_table = storage("tables", bytemuck::cast_slice(table));
+        let b_fluid = storage("fluid", bytemuck::bytes_of(fluid));
+        let b_gas = storage("gas", bytemuck::bytes_of(gas));
+        let budget = self.step_budget();
+        let b_control = storage(
+            "control",
+            bytemuck::bytes_of(&GpuControl {
+                step_budget: budget,
+            }),
+        );
+        let size = (params.len() * size_of::<GpuResult>()) as u64;
+        let b_results = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("results"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let b_read = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let layout = self.pipeline.get_bind_group_layout(0);
+        let entries: Vec<wgpu::BindGroupEntry> = [
+            &b_params, &b_phases, &b_table, &b_fluid, &b_gas, &b_results, &b_control,
+        ]
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("cryoslosh"),
+            layout: &layout,
+            entries: &entries,
+        });
+        // Every instance is done after ceil(max_steps / budget) dispatches (the first also
+        // initialises); each dispatch sees the previous one's writes.
+        let dispatches = max_steps.div_ceil(u64::from(budget)).max(1);
+        let mut enc = device.create_command_encoder(&Default::default());
+        for _ in 0..dispatches {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups((params.len() as u32).div_ceil(WORKGROUP), 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&b_results, 0, &b_read, 0, size);
+        let index = self.gpu.queue.submit([enc.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        b_read.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            })
+            .map_err(|e| GpuError::Runtime(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| GpuError::Runtime(e.to_string()))?
+            .map_err(|e| GpuError::Runtime(e.to_string()))?;
+        let view = b_read
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Runtime(e.to_string()))?;
+        let out = bytemuck::cast_slice::<u8, GpuResult>(&view).to_vec();
+        drop(view);
+        b_read.unmap();
+        if let Some(k) = out.iter().position(|r| r.done == 0) {
+            return Err(GpuError::Runtime(format!(
+                "instance {k} of a batch did not finish in {dispatches} dispatches of {budget} \
+                 steps: the driver cut the kernel short"
+            )));
+        }
+        Ok(out)
+    }
+}
+
+/// Sample and resolve instance `i`; instances the kernel cannot take finish on the CPU.
+fn prepare(plan: &Plan, i: u64) -> Prepared {
+    let c = plan.campaign;
+    let inputs = sample_inputs(&c.dispersions, plan.seed, plan.total, i);
+    let resolved = if inputs.is_empty() {
+        Ok(None)
+    } else {
+        c.instance(&inputs).map(Some)
+    };
+    match resolved {
+        Ok(ci) => {
+            let ci = ci.as_ref().unwrap_or(c);
+            if ci.params.fluid != c.params.fluid || ci.phases.len() != c.phases.len() {
+                return Prepared::Done(Box::new(plan.run_instance(i)));
+            }
+            Prepared::Device(Box::new(DeviceInstance {
+                s0: initial_state(ci, &ci.params),
+                params: ci.params,
+                phases: ci.phases.clone(),
+                inputs,
+            }))
+        }
+        Err(_) => Prepared::Done(Box::new(plan.run_instance(i))),
+    }
+}
+
+/// The instance summary from the kernel's record.
+fn summarize(p: &Params, s0: &State, r: &GpuResult, phase_names: &[String]) -> Summary {
+    let mut s = [0.0; NS];
+    for (i, v) in s.iter_mut().enumerate() {
+        *v = join(r.s_hi[i], r.s_lo[i]);
+    }
+    let f = f64::from;
+    let drew = r.drew != 0;
+    let diverged = r.diverged != 0;
+    let q = Summary {
+        peak_pressure_pa: f(r.peak_pressure_pa),
+        peak_pressure_time_s: f(r.peak_pressure_time_s),
+        min_pressure_pa: f(r.min_pressure_pa),
+        min_pressure_time_s: f(r.min_pressure_time_s),
+        min_cavitation_margin_m: drew.then(|| f(r.min_margin_m)),
+        min_cavitation_margin_pa: drew.then(|| f(r.min_margin_pa)),
+        min_cavitation_margin_time_s: drew.then(|| f(r.min_margin_time_s)),
+        max_slosh_angle_rad: f(r.max_slosh_angle_rad),
+        peak_slosh_force_n: f(r.peak_slosh_force_n),
+        peak_slosh_moment_n_m: f(r.peak_slosh_moment_n_m),
+        diverged,
+        diverged_reason: diverged.then(|| {
+            let what = DIVERGED_REASONS
+                .get(r.diverged as usize)
+                .copied()
+                .unwrap_or("state");
+            let phase = phase_names
+                .get(r.diverged_phase as usize)
+                .map_or("?", String::as_str);
+            format!(
+                "{what} ({:.6e}) out of range at t = {:.3} s in phase {phase} (GPU)",
+                r.diverged_value, r.diverged_time_s
+            )
+        }),
+        ..Summary::default()
+    };
+    // Lumped levels carry the vapour mass in the state (hi + lo words, more digits than the
+    // kernel's f32 derived value); the equilibrium level derives it, on the device both times.
+    let homogeneous = p.fidelity == Fidelity::Homogeneous;
+    let x = Derived {
+        m_vapor_kg: if homogeneous { f(r.m_vapor_kg) } else { s[M_V] },
+        t_layer_k: f(r.t_layer_k),
+        t_bulk_k: f(r.t_bulk_k),
+        p_ullage_pa: f(r.p_ullage_pa),
+        ..Derived::default()
+    };
+    let m_vapor0 = if homogeneous {
+        f(r.m_vapor0_kg)
+    } else {
+        s0[M_V]
+    };
+    finish_summary(
+        q,
+        p,
+        s0,
+        m_vapor0,
+        f(r.final_time_s),
+        &s,
+        &x,
+        u64::from(r.steps),
+    )
+}
+
+impl Engine for GpuEngine {
+    fn name(&self) -> &'static str {
+        "gpu"
+    }
+
+    fn device(&self) -> String {
+        format!(
+            "gpu: {} ({})",
+            self.gpu.info.name, self.gpu.info.device_type
+        )
+    }
+
+    fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
+        let c = plan.campaign;
+        let first = range.start;
+        let mut prepared: Vec<Prepared> = range.into_par_iter().map(|i| prepare(plan, i)).collect();
+        let device_idx: Vec<usize> = prepared
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| matches!(p, Prepared::Device(_)))
+            .map(|(k, _)| k)
+            .collect();
+        let (fluid, gas) = fluid_records(c.params.fluid);
+        let names: Vec<String> = c.phases.iter().map(|p| p.name.clone()).collect();
+        let n_phases = c.phases.len();
+        let mut done: Vec<Option<InstanceRecord>> = vec![None; prepared.len()];
+        for batch in device_idx.chunks(self.max_batch(n_phases)) {
+            let mut table = Vec::new();
+            let mut max_steps = 0u64;
+            let mut params = Vec::with_capacity(batch.len());
+            let mut phases = Vec::with_capacity(batch.len() * n_phases);
+            for &k in batch {
+                let Prepared::Device(d) = &prepared[k] else {
+                    unreachable!("batch holds device instances only")
+                };
+                max_steps = max_steps.max(d.phases.iter().map(|x| x.steps().0).sum());
+                params.push(GpuParams::new(&d.params, n_phases, &d.s0));
+                phases.extend(d.phases.iter().map(|ph| GpuPhase::new(ph, &mut table)));
+            }
+            let results = self
+                .dispatch(&fluid, &gas, &params, &phases, &table, max_steps)
+                .map_err(|e| e.to_string())?;
+            let summaries: Vec<Summary> = batch
+                .par_iter()
+                .zip(&results)
+                .map(|(&k, r)| match &prepared[k] {
+                    Prepared::Device(d) => summarize(&d.params, &d.s0, r, &names),
+                    Prepared::Done(_) => unreachable!("batch holds device instances only"),
+                })
+                .collect();
+            for (&k, summary) in batch.iter().zip(summaries) {
+                let Prepared::Device(d) = &mut prepared[k] else {
+                    unreachable!("batch holds device instances only")
+                };
+                done[k] = Some(InstanceRecord {
+                    instance: first + k as u64,
+                    inputs: std::mem::take(&mut d.inputs),
+                    summary,
+                    rejected: false,
+                });
+            }
+        }
+        Ok(prepared
+            .into_iter()
+            .zip(done)
+            .map(|(p, d)| match p {
+                Prepared::Done(r) => *r,
+                Prepared::Device(_) => d.expect("every device instance has a result"),
+            })
+            .collect())
+    }
+}

@@ -1,0 +1,442 @@
+//! What one GPU invocation reads and writes: the instance's parameters and phases in f32, its
+//! initial state split into f32 hi + lo words, and its quantities of interest. Every constant the
+//! kernel shares with the CPU model is emitted from the Rust definitions in [`constants_wgsl`].
+
+use crate::fluids::{Fluid, HELIUM, R_UNIVERSAL};
+use crate::gpu::props::{GpuFluid, GpuGas, GpuTank};
+use crate::gpu_struct;
+use crate::model::flight::{
+    Excitation, Phase, PhaseKind, EARTH_RADIUS_M, G0, P_SEA_LEVEL_PA, RHO_SEA_LEVEL, SCALE_HEIGHT_M,
+};
+use crate::model::params::{Fidelity, Params};
+use crate::model::slosh::{MIN_AXIAL_ACCEL, XI};
+use crate::model::state::{self, vapor_enthalpy_offset, State, NS};
+
+/// Optional closures present in [`GpuParams::flags`].
+pub mod flag {
+    pub const EVAP_COEFF: u32 = 1;
+    pub const H_US: u32 = 2;
+    pub const H_SB: u32 = 4;
+    pub const H_WALL_ULLAGE: u32 = 8;
+    pub const H_WALL_LIQUID: u32 = 16;
+    pub const PRESSURIZATION: u32 = 32;
+    pub const RELIEF: u32 = 64;
+}
+
+/// Excitation kinds in [`GpuPhase::exc_kind`].
+pub mod exc {
+    pub const NONE: u32 = 0;
+    pub const STEP: u32 = 1;
+    pub const RAMP: u32 = 2;
+    pub const SINE: u32 = 3;
+    pub const SWEEP: u32 = 4;
+    pub const GUST: u32 = 5;
+    pub const TABLE: u32 = 6;
+}
+
+/// Why an instance diverged, in [`GpuResult::diverged`] (0: it did not).
+pub const DIVERGED_REASONS: [&str; 12] = [
+    "",
+    "a state slot is not finite",
+    "ullage pressure",
+    "ullage volume",
+    "ullage temperature",
+    "layer temperature",
+    "bulk temperature",
+    "dry wall temperature",
+    "wetted wall temperature",
+    "vapour mass",
+    "helium mass",
+    "layer or bulk mass",
+];
+
+gpu_struct! {
+    /// One instance's resolved inputs (MODEL.md symbols; see `model::params` for each unit).
+    pub struct GpuParams {
+        pub fidelity: u32,
+        pub flags: u32,
+        pub baffle_count: u32,
+        pub n_phases: u32,
+        pub tank: GpuTank,
+        pub heat_leak_w: f32,
+        pub wall_areal_mass: f32,
+        pub wall_cp: f32,
+        pub evap_coeff: f32,
+        pub accommodation: f32,
+        pub h_us: f32,
+        pub h_sb: f32,
+        pub h_wall_ullage: f32,
+        pub h_wall_liquid: f32,
+        pub diffusivity_factor: f32,
+        pub wall_heat_to_layer: f32,
+        pub coupling_volume_m3: f32,
+        pub coupling_h: f32,
+        pub coupling_mixing: f32,
+        pub baffle_width_m: f32,
+        pub baffle_spacing_m: f32,
+        pub baffle_top_m: f32,
+        pub baffle_wave_m: f32,
+        pub extra_damping: f32,
+        pub press_setpoint_pa: f32,
+        pub press_kp: f32,
+        pub press_kd: f32,
+        pub press_filter_s: f32,
+        pub press_max_flow: f32,
+        pub press_gas_t: f32,
+        pub press_bottle_kg: f32,
+        pub relief_crack_pa: f32,
+        pub relief_reseat_pa: f32,
+        pub relief_area_m2: f32,
+        pub isp_s: f32,
+        pub propellant_fraction: f32,
+        pub line_height_m: f32,
+        pub line_loss_pa: f32,
+        pub line_velocity_m_s: f32,
+        pub npsh_required_m: f32,
+        pub dry_mass_kg: f32,
+        pub drag_area_m2: f32,
+        pub lever_arm_m: f32,
+        pub vapor_offset: f32,
+        pub fluid_molar_mass: f32,
+        pub helium_molar_mass: f32,
+        pub p_crit_pa: f32,
+        pub t_min_k: f32,
+        pub t_max_k: f32,
+        pub s0_hi: [f32; NS],
+        pub s0_lo: [f32; NS],
+    }
+}
+
+gpu_struct! {
+    /// One phase of one instance: steps, drive and excitation.
+    pub struct GpuPhase {
+        pub kind: u32,
+        pub n_steps: u32,
+        pub pressurize: u32,
+        pub exc_kind: u32,
+        pub table_start: u32,
+        pub table_len: u32,
+        pub dt: f32,
+        pub thrust_n: f32,
+        pub gamma_rad: f32,
+        pub gravity: f32,
+        pub exc: [f32; 4],
+    }
+}
+
+gpu_struct! {
+    /// One instance's integration carried from dispatch to dispatch (where it is, its state in
+    /// hi + lo words, the derivative to reuse) and its quantities of interest so far.
+    pub struct GpuResult {
+        pub started: u32,
+        pub done: u32,
+        pub phase: u32,
+        pub step_in_phase: u32,
+        pub valve_open: u32,
+        pub have_k1: u32,
+        pub phase_start_s: f32,
+        pub steps: u32,
+        pub diverged: u32,
+        pub diverged_phase: u32,
+        pub drew: u32,
+        pub diverged_value: f32,
+        pub diverged_time_s: f32,
+        pub peak_pressure_pa: f32,
+        pub peak_pressure_time_s: f32,
+        pub min_pressure_pa: f32,
+        pub min_pressure_time_s: f32,
+        pub min_margin_m: f32,
+        pub min_margin_pa: f32,
+        pub min_margin_time_s: f32,
+        pub max_slosh_angle_rad: f32,
+        pub peak_slosh_force_n: f32,
+        pub peak_slosh_moment_n_m: f32,
+        pub final_time_s: f32,
+        pub m_vapor0_kg: f32,
+        pub m_vapor_kg: f32,
+        pub t_layer_k: f32,
+        pub t_bulk_k: f32,
+        pub p_ullage_pa: f32,
+        pub s_hi: [f32; NS],
+        pub s_lo: [f32; NS],
+        pub k1: [f32; NS],
+    }
+}
+
+gpu_struct! {
+    /// What every invocation of one dispatch shares.
+    pub struct GpuControl {
+        /// Steps each instance may advance in this dispatch.
+        pub step_budget: u32,
+    }
+}
+
+/// f64 → f32 high word and the f32 remainder, so that hi + lo carries ~48 bits.
+pub fn split(v: f64) -> (f32, f32) {
+    let hi = v as f32;
+    (hi, (v - f64::from(hi)) as f32)
+}
+
+/// hi + lo in f64.
+pub fn join(hi: f32, lo: f32) -> f64 {
+    f64::from(hi) + f64::from(lo)
+}
+
+fn fidelity_code(f: Fidelity) -> u32 {
+    match f {
+        Fidelity::Homogeneous => 0,
+        Fidelity::Lumped => 1,
+        Fidelity::TwoMode => 2,
+    }
+}
+
+impl GpuParams {
+    /// Parameters of an instance with parameters `p`, `n_phases` phases and initial state `s0`.
+    pub fn new(p: &Params, n_phases: usize, s0: &State) -> GpuParams {
+        let ht = &p.heat_transfer;
+        let fl = p.fluid.props();
+        let mut flags = 0;
+        let mut opt = |v: Option<f64>, bit: u32| {
+            if v.is_some() {
+                flags |= bit;
+            }
+            v.unwrap_or(0.0) as f32
+        };
+        let evap_coeff = opt(ht.evaporation_coefficient_kg_per_s_pa, flag::EVAP_COEFF);
+        let h_us = opt(ht.h_us_w_per_m2_k, flag::H_US);
+        let h_sb = opt(ht.h_sb_w_per_m2_k, flag::H_SB);
+        let h_wall_ullage = opt(ht.h_wall_ullage_w_per_m2_k, flag::H_WALL_ULLAGE);
+        let h_wall_liquid = opt(ht.h_wall_liquid_w_per_m2_k, flag::H_WALL_LIQUID);
+        let ps = p.pressurization;
+        let rl = p.relief;
+        if ps.is_some() {
+            flags |= flag::PRESSURIZATION;
+        }
+        if rl.is_some() {
+            flags |= flag::RELIEF;
+        }
+        let f = |v: f64| v as f32;
+        let psf =
+            |g: fn(&crate::model::params::Pressurization) -> f64| ps.as_ref().map_or(0.0, g) as f32;
+        let rlf = |g: fn(&crate::model::params::Relief) -> f64| rl.as_ref().map_or(0.0, g) as f32;
+        let mut s0_hi = [0.0; NS];
+        let mut s0_lo = [0.0; NS];
+        for i in 0..NS {
+            (s0_hi[i], s0_lo[i]) = split(s0[i]);
+        }
+        GpuParams {
+            fidelity: fidelity_code(p.fidelity),
+            flags,
+            baffle_count: p.baffles.count,
+            n_phases: n_phases as u32,
+            tank: GpuTank::new(&p.tank),
+            heat_leak_w: f(p.heat_leak_w),
+            wall_areal_mass: f(p.wall_areal_mass_kg_per_m2),
+            wall_cp: f(p.wall_cp_j_per_kg_k),
+            evap_coeff,
+            accommodation: f(ht.accommodation),
+            h_us,
+            h_sb,
+            h_wall_ullage,
+            h_wall_liquid,
+            diffusivity_factor: f(p.stratification.diffusivity_factor),
+            wall_heat_to_layer: f(p.stratification.wall_heat_to_layer),
+            coupling_volume_m3: f(p.coupling.volume_m3),
+            coupling_h: f(p.coupling.h_enhancement_w_per_m2_k_s),
+            coupling_mixing: f(p.coupling.mixing),
+            baffle_width_m: f(p.baffles.width_m),
+            baffle_spacing_m: f(p.baffles.spacing_m),
+            baffle_top_m: f(p.baffles.top_height_m),
+            baffle_wave_m: f(p.baffles.wave_amplitude_m),
+            extra_damping: f(p.extra_damping),
+            press_setpoint_pa: psf(|x| x.setpoint_pa),
+            press_kp: psf(|x| x.kp_kg_per_s_pa),
+            press_kd: psf(|x| x.kd_kg_per_pa),
+            press_filter_s: psf(|x| x.derivative_filter_s),
+            press_max_flow: psf(|x| x.max_flow_kg_per_s),
+            press_gas_t: psf(|x| x.gas_temperature_k),
+            press_bottle_kg: psf(|x| x.bottle_mass_kg),
+            relief_crack_pa: rlf(|x| x.crack_pa),
+            relief_reseat_pa: rlf(|x| x.reseat_pa),
+            relief_area_m2: rlf(|x| x.flow_area_m2),
+            isp_s: f(p.feed.isp_s),
+            propellant_fraction: f(p.feed.propellant_fraction),
+            line_height_m: f(p.feed.line_height_m),
+            line_loss_pa: f(p.feed.line_loss_pa),
+            line_velocity_m_s: f(p.feed.line_velocity_m_s),
+            npsh_required_m: f(p.feed.npsh_required_m),
+            dry_mass_kg: f(p.vehicle.dry_mass_kg),
+            drag_area_m2: f(p.vehicle.drag_area_m2),
+            lever_arm_m: f(p.vehicle.slosh_lever_arm_m),
+            vapor_offset: f(vapor_enthalpy_offset(p.fluid)),
+            fluid_molar_mass: f(fl.molar_mass_kg_per_mol),
+            helium_molar_mass: f(HELIUM.molar_mass_kg_per_mol),
+            p_crit_pa: f(fl.p_crit_pa),
+            t_min_k: f(fl.t_min_k),
+            t_max_k: f(fl.t_max_k),
+            s0_hi,
+            s0_lo,
+        }
+    }
+}
+
+impl GpuPhase {
+    /// The phase in f32; a table excitation's rows are appended to `table` as (t, a_lat, a_ax).
+    pub fn new(ph: &Phase, table: &mut Vec<f32>) -> GpuPhase {
+        let (n, dt) = ph.steps();
+        let (kind, mut e) = (exc::NONE, [0.0f64; 4]);
+        let mut out = GpuPhase {
+            kind: match ph.kind {
+                PhaseKind::Hold => 0,
+                PhaseKind::Burn => 1,
+                PhaseKind::Coast => 2,
+            },
+            n_steps: n as u32,
+            pressurize: u32::from(ph.pressurize),
+            exc_kind: kind,
+            table_start: 0,
+            table_len: 0,
+            dt: dt as f32,
+            thrust_n: ph.thrust_n as f32,
+            gamma_rad: ph.flight_path_angle_rad as f32,
+            gravity: ph.gravity_m_s2 as f32,
+            exc: [0.0; 4],
+        };
+        out.exc_kind = match &ph.excitation {
+            Excitation::None => exc::NONE,
+            Excitation::Step { amplitude, start_s } => {
+                e = [*amplitude, *start_s, 0.0, 0.0];
+                exc::STEP
+            }
+            Excitation::Ramp {
+                amplitude,
+                start_s,
+                duration_s,
+            } => {
+                e = [*amplitude, *start_s, *duration_s, 0.0];
+                exc::RAMP
+            }
+            Excitation::Sine {
+                amplitude,
+                frequency_hz,
+                phase_rad,
+            } => {
+                e = [*amplitude, *frequency_hz, *phase_rad, 0.0];
+                exc::SINE
+            }
+            Excitation::Sweep {
+                amplitude,
+                f_start_hz,
+                f_end_hz,
+                duration_s,
+            } => {
+                e = [*amplitude, *f_start_hz, *f_end_hz, *duration_s];
+                exc::SWEEP
+            }
+            Excitation::Gust {
+                amplitude,
+                start_s,
+                duration_s,
+            } => {
+                e = [*amplitude, *start_s, *duration_s, 0.0];
+                exc::GUST
+            }
+            Excitation::Table {
+                time_s,
+                a_lat,
+                a_ax,
+            } => {
+                out.table_start = (table.len() / 3) as u32;
+                out.table_len = time_s.len() as u32;
+                for i in 0..time_s.len() {
+                    table.extend([time_s[i] as f32, a_lat[i] as f32, a_ax[i] as f32]);
+                }
+                exc::TABLE
+            }
+        };
+        out.exc = e.map(|v| v as f32);
+        out
+    }
+}
+
+/// The campaign-wide fluid and helium records for `fluid`.
+pub fn fluid_records(fluid: Fluid) -> (GpuFluid, GpuGas) {
+    (GpuFluid::new(fluid.props()), GpuGas::new(&HELIUM))
+}
+
+/// WGSL `const` declarations of every number the kernel shares with the CPU model.
+pub fn constants_wgsl() -> String {
+    // Spelled exactly as `gpu_struct!` spells `[f32; NS]`, so that naga sees one type.
+    let mut s = format!("alias St = array<f32, {NS}>;\n");
+    let mut u = |name: &str, v: u32| s += &format!("const {name}: u32 = {v}u;\n");
+    u("NS", NS as u32);
+    for (name, v) in [
+        ("M_V", state::M_V),
+        ("M_G", state::M_G),
+        ("U_U", state::U_U),
+        ("M_S", state::M_S),
+        ("H_S", state::H_S),
+        ("M_B", state::M_B),
+        ("H_B", state::H_B),
+        ("E_WD", state::E_WD),
+        ("E_WW", state::E_WW),
+        ("Q1", state::Q1),
+        ("Q1D", state::Q1D),
+        ("Q2", state::Q2),
+        ("Q2D", state::Q2D),
+        ("VEL", state::VEL),
+        ("ALT", state::ALT),
+        ("P_FILT", state::P_FILT),
+        ("VENT_V", state::VENT_V),
+        ("VENT_G", state::VENT_G),
+        ("OUT", state::OUT),
+        ("PRESS_IN", state::PRESS_IN),
+        ("E_ENV", state::E_ENV),
+        ("E_PRESS", state::E_PRESS),
+        ("E_VENT", state::E_VENT),
+        ("E_OUT", state::E_OUT),
+        ("E_WORK", state::E_WORK),
+    ] {
+        u(name, v as u32);
+    }
+    for (name, v) in [
+        ("FLAG_EVAP_COEFF", flag::EVAP_COEFF),
+        ("FLAG_H_US", flag::H_US),
+        ("FLAG_H_SB", flag::H_SB),
+        ("FLAG_H_WALL_ULLAGE", flag::H_WALL_ULLAGE),
+        ("FLAG_H_WALL_LIQUID", flag::H_WALL_LIQUID),
+        ("FLAG_PRESSURIZATION", flag::PRESSURIZATION),
+        ("FLAG_RELIEF", flag::RELIEF),
+        ("EXC_NONE", exc::NONE),
+        ("EXC_STEP", exc::STEP),
+        ("EXC_RAMP", exc::RAMP),
+        ("EXC_SINE", exc::SINE),
+        ("EXC_SWEEP", exc::SWEEP),
+        ("EXC_GUST", exc::GUST),
+        ("EXC_TABLE", exc::TABLE),
+        ("FID_HOMOGENEOUS", fidelity_code(Fidelity::Homogeneous)),
+        ("FID_LUMPED", fidelity_code(Fidelity::Lumped)),
+        ("FID_TWO_MODE", fidelity_code(Fidelity::TwoMode)),
+        ("PHASE_HOLD", 0),
+        ("PHASE_BURN", 1),
+        ("PHASE_COAST", 2),
+    ] {
+        u(name, v);
+    }
+    for (name, v) in [
+        ("G0", G0),
+        ("P_SEA_LEVEL_PA", P_SEA_LEVEL_PA),
+        ("RHO_SEA_LEVEL", RHO_SEA_LEVEL),
+        ("SCALE_HEIGHT_M", SCALE_HEIGHT_M),
+        ("EARTH_RADIUS_M", EARTH_RADIUS_M),
+        ("MIN_AXIAL_ACCEL", MIN_AXIAL_ACCEL),
+        ("XI_0", XI[0]),
+        ("XI_1", XI[1]),
+        ("R_UNIVERSAL", R_UNIVERSAL),
+        ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
+        ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),
+    ] {
+        s += &format!("const {name}: f32 = {v:e};\n");
+    }
+    s
+}
