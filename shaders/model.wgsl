@@ -915,7 +915,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         for (var j = 0u; j < NS; j++) {
             // Kahan: the value is hi + lo; lo keeps what the f32 hi word could not take.
             let inc = dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) + lo[j];
-            let sum = hi[j] + inc;
+            let sum = (hi[j] + inc) * control.one;
             lo[j] = inc - (sum - hi[j]);
             hi[j] = sum;
         }

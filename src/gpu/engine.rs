@@ -152,6 +152,7 @@ impl GpuEngine {
             "control",
             bytemuck::bytes_of(&GpuControl {
                 step_budget: budget,
+                one: 1.0,
             }),
         );
         let size = (params.len() * size_of::<GpuResult>()) as u64;

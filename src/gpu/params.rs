@@ -168,6 +168,9 @@ gpu_struct! {
     pub struct GpuControl {
         /// Steps each instance may advance in this dispatch.
         pub step_budget: u32,
+        /// 1.0, unknown to the shader compiler: multiplying by it keeps Kahan's `(s − hi)` from
+        /// being simplified to the increment (NIR and others fold `(a + b) − a` → `b`).
+        pub one: f32,
     }
 }
 
