@@ -103,7 +103,10 @@ fn missing_adapter_with_backend_gpu_exits_2_and_writes_nothing() {
     let o = cryoslosh(&args, &none);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("mesa-vulkan-drivers") && err.contains("--backend cpu"), "{err}");
+    assert!(
+        err.contains("mesa-vulkan-drivers") && err.contains("--backend cpu"),
+        "{err}"
+    );
     assert!(!dir.exists(), "nothing may be written");
     // auto falls back to the CPU in the same situation.
     let auto = [&args[..6], &["--backend", "auto"]].concat();

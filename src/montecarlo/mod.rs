@@ -178,25 +178,67 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let range = o.shard.range(o.instances);
     let meta = metadata(c, engine.name(), o.seed, o.instances, o.shard);
     let inst_path = o.out_dir.join("instances.parquet");
-    let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
+    let writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
 
     let bar = progress_bar(o.progress, range.end - range.start);
     let start = std::time::Instant::now();
     let (mut steps, mut diverged, mut rejected) = (0u64, 0u64, 0u64);
-    let mut at = range.start;
-    while at < range.end {
-        let end = (at + o.chunk_size).min(range.end);
-        for r in engine.run_block(&plan, at..end).map_err(RunError::Engine)? {
-            steps += r.summary.steps;
-            diverged += u64::from(r.summary.diverged);
-            rejected += u64::from(r.rejected);
-            writer.push(&r)?;
+    // Double buffering: a writer thread encodes chunk k to Parquet while the engine integrates
+    // chunk k + 1 (one chunk in flight bounds memory at two chunks).
+    // `None` marks the end: only then is the file renamed into place.
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Option<Vec<plan::InstanceRecord>>>(1);
+    let outcome = std::thread::scope(|scope| -> Result<(), RunError> {
+        let mut writer = writer;
+        let writing = scope.spawn(move || -> Result<(), RunError> {
+            for block in rx {
+                let Some(block) = block else {
+                    writer.finish()?;
+                    return Ok(());
+                };
+                for r in &block {
+                    writer.push(r)?;
+                }
+            }
+            Ok(()) // abandoned: the integration failed
+        });
+        let mut at = range.start;
+        let mut integrated = Ok(());
+        while at < range.end {
+            let end = (at + o.chunk_size).min(range.end);
+            let block = match engine.run_block(&plan, at..end) {
+                Ok(b) => b,
+                Err(e) => {
+                    integrated = Err(RunError::Engine(e));
+                    break;
+                }
+            };
+            for r in &block {
+                steps += r.summary.steps;
+                diverged += u64::from(r.summary.diverged);
+                rejected += u64::from(r.rejected);
+            }
+            if tx.send(Some(block)).is_err() {
+                break; // the writer failed; its error is reported below
+            }
+            bar.inc(end - at);
+            at = end;
         }
-        bar.inc(end - at);
-        at = end;
+        if integrated.is_ok() {
+            let _ = tx.send(None);
+        }
+        drop(tx);
+        let written = writing
+            .join()
+            .expect("the Parquet writer thread does not panic");
+        integrated.and(written)
+    });
+    if outcome.is_err() {
+        if let Ok(tmp) = crate::output::atomic::temp_path(&inst_path) {
+            let _ = std::fs::remove_file(tmp);
+        }
     }
+    outcome?;
     bar.finish_and_clear();
-    writer.finish()?;
     let wall_s = start.elapsed().as_secs_f64();
 
     let full = o.shard.count == 1;
