@@ -71,8 +71,9 @@ enum Command {
         #[arg(long, value_name = "I/N")]
         shard: Option<String>,
         /// Instances handed to the engine at a time (memory bound; results do not depend on it).
-        #[arg(long, default_value_t = 16_384)]
-        chunk_size: u64,
+        /// Default: 16384 on the CPU, 262144 on a GPU.
+        #[arg(long)]
+        chunk_size: Option<u64>,
         /// Override a scalar by its dotted key path (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
@@ -200,7 +201,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 instances: instances.unwrap_or(c.instances),
                 seed: seed.unwrap_or(c.seed),
                 shard,
-                chunk_size,
+                chunk_size: chunk_size.unwrap_or(match backend {
+                    Backend::Cpu(_) => 16_384,
+                    Backend::Gpu(_) => 262_144,
+                }),
                 progress: true,
             };
             let report = montecarlo::run(&c, &backend, &opts)?;

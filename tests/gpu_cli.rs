@@ -64,6 +64,7 @@ fn rust_and_wgsl_struct_layouts_agree() {
         assert!(decl.starts_with(&format!("struct {name} {{")), "{decl}");
         let w = wgsl_size(&decl, &known);
         assert_eq!(w, rust, "{name}: WGSL {w} bytes, Rust {rust} bytes");
+        println!("{name}: {w} bytes");
         known.insert(name.to_string(), w);
     }
 }

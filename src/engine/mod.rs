@@ -3,9 +3,10 @@
 //!
 //! # Design
 //! Guaranteed: instance i's inputs and results depend only on (campaign, seed, total, i), so the
-//! CPU backend is bit-identical for any thread count, block size and shard split. Traded away (for
-//! now): the CPU backend integrates one instance per task with the scalar f64 model; lockstep SIMD
-//! lanes and the WGSL backend implement the same trait later.
+//! CPU backend is bit-identical for any thread count, block size and shard split; the GPU backend
+//! (`crate::gpu::engine`) is deterministic run to run and within 1e-3 of the CPU (docs/GPU.md).
+//! Traded away (for now): the CPU backend integrates one instance per task with the scalar f64
+//! model, not in lockstep SIMD lanes.
 
 mod cpu;
 
