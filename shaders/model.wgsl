@@ -283,7 +283,7 @@ fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
     motion(s, d, &x, nu);
     x.v_u = tank_volume() - v_l + P.coupling_volume_m3 * sin(slosh_angle(s, x.sl));
     let heat_cap = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
-    x.t_u = ((*s)[U_U] - (*s)[M_V] * P.vapor_offset) / heat_cap;
+    x.t_u = ((*s)[U_U] - (*s)[M_V] * FL.vapor_offset) / heat_cap;
     x.m_v = (*s)[M_V];
     x.p_v = (*s)[M_V] * fl_r_specific() * x.t_u / x.v_u;
     x.p_u = x.p_v + (*s)[M_G] * he_r_specific() * x.t_u / x.v_u;
@@ -303,15 +303,15 @@ fn vapor_mass(m_p: f32, t: f32) -> f32 {
 
 fn fluid_energy(m_p: f32, m_g: f32, t: f32) -> f32 {
     let m_v = vapor_mass(m_p, t);
-    let u_v = FL.cv_vapor * t + P.vapor_offset;
+    let u_v = FL.cv_vapor * t + FL.vapor_offset;
     return (m_p - m_v) * fl_h_l(t) + m_v * u_v + m_g * HE.cv * t;
 }
 
 /// Newton on E(T) = e. The f32 slope is a central difference over ±1 mK (the CPU's ±1e-6 T
 /// would be rounding noise in f32); the root is the same.
 fn homogeneous_temperature(m_p: f32, m_g: f32, e: f32) -> f32 {
-    let lo = P.t_min_k;
-    let hi = P.t_max_k;
+    let lo = FL.t_min_hi;
+    let hi = FL.t_max;
     var t = clamp(fl_t_from_h_l(e / m_p), lo, hi);
     for (var it = 0u; it < 8u; it++) {
         let h = 1.0e-3;
@@ -564,10 +564,10 @@ fn evaporation(s: ptr<function, St>, x: Derived, dt: f32, h_mass: f32) -> f32 {
     let rv = fl_r_specific();
     var k_kin = P.evap_coeff;
     if ((P.flags & FLAG_EVAP_COEFF) == 0u) {
-        k_kin = schrage_coefficient(x.a_i, P.accommodation, P.fluid_molar_mass, t_s);
+        k_kin = schrage_coefficient(x.a_i, P.accommodation, FL.molar_mass, t_s);
     }
-    let moles_v = (*s)[M_V] / P.fluid_molar_mass;
-    let moles_g = (*s)[M_G] / P.helium_molar_mass;
+    let moles_v = (*s)[M_V] / FL.molar_mass;
+    let moles_g = (*s)[M_G] / HE.molar_mass;
     let x_he = moles_g / max(moles_v + moles_g, 1.0e-30);
     let diffusion = x_he * rv * x.t_u / max(h_mass * x.a_i, 1.0e-30);
     let k = 1.0 / (1.0 / k_kin + diffusion);
@@ -640,7 +640,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     let h_ls = fl_h_l(t_s);
     let h_lb = fl_h_l(t_b);
-    let h_vap_gas = FL.cp_vapor * t_u + P.vapor_offset;
+    let h_vap_gas = FL.cp_vapor * t_u + FL.vapor_offset;
     let e_evap = max(m_evap, 0.0) * (h_ls + fl_h_fg(t_s)) + min(m_evap, 0.0) * h_vap_gas;
     let y = b.y;
     let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
@@ -700,7 +700,7 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     var sv = *s;
     sv[M_V] = x.m_v;
     let b = boundary_flows(&sv, d, x);
-    let h_v = FL.cp_vapor * t + P.vapor_offset;
+    let h_v = FL.cp_vapor * t + FL.vapor_offset;
     let h_u = b.y * h_v + (1.0 - b.y) * HE.cp * t;
     let h_l = fl_h_l(t);
     let h_press = helium_inlet_enthalpy();
@@ -758,8 +758,8 @@ fn check_state(s: ptr<function, St>, x: Derived) -> vec2<f32> {
         }
     }
     var v = array<f32, 7>(x.p_u, x.v_u, x.t_u, x.t_s, x.t_b, x.t_wd, x.t_ww);
-    var lo = array<f32, 7>(0.0, 0.0, 1.0, P.t_min_k - 2.0, P.t_min_k - 2.0, 1.0, 1.0);
-    var hi = array<f32, 7>(10.0 * P.p_crit_pa, 3.4e38, 2000.0, P.t_max_k + 2.0, P.t_max_k + 2.0, 2000.0, 2000.0);
+    var lo = array<f32, 7>(0.0, 0.0, 1.0, FL.t_min_hi - 2.0, FL.t_min_hi - 2.0, 1.0, 1.0);
+    var hi = array<f32, 7>(10.0 * FL.p_crit, 3.4e38, 2000.0, FL.t_max + 2.0, FL.t_max + 2.0, 2000.0, 2000.0);
     for (var i = 0u; i < 7u; i++) {
         if (not_finite(v[i]) || !(v[i] > lo[i] && v[i] < hi[i])) {
             return vec2<f32>(f32(2u + i), v[i]);

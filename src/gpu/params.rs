@@ -10,7 +10,7 @@ use crate::model::flight::{
 };
 use crate::model::params::{Fidelity, Params};
 use crate::model::slosh::{MIN_AXIAL_ACCEL, XI};
-use crate::model::state::{self, vapor_enthalpy_offset, State, NS};
+use crate::model::state::{self, State, NS};
 
 /// Optional closures present in [`GpuParams::flags`].
 pub mod flag {
@@ -96,12 +96,6 @@ gpu_struct! {
         pub dry_mass_kg: f32,
         pub drag_area_m2: f32,
         pub lever_arm_m: f32,
-        pub vapor_offset: f32,
-        pub fluid_molar_mass: f32,
-        pub helium_molar_mass: f32,
-        pub p_crit_pa: f32,
-        pub t_min_k: f32,
-        pub t_max_k: f32,
         pub s0_hi: [f32; NS],
         pub s0_lo: [f32; NS],
     }
@@ -197,7 +191,6 @@ impl GpuParams {
     /// Parameters of an instance with parameters `p`, `n_phases` phases and initial state `s0`.
     pub fn new(p: &Params, n_phases: usize, s0: &State) -> GpuParams {
         let ht = &p.heat_transfer;
-        let fl = p.fluid.props();
         let mut flags = 0;
         let mut opt = |v: Option<f64>, bit: u32| {
             if v.is_some() {
@@ -271,12 +264,6 @@ impl GpuParams {
             dry_mass_kg: f(p.vehicle.dry_mass_kg),
             drag_area_m2: f(p.vehicle.drag_area_m2),
             lever_arm_m: f(p.vehicle.slosh_lever_arm_m),
-            vapor_offset: f(vapor_enthalpy_offset(p.fluid)),
-            fluid_molar_mass: f(fl.molar_mass_kg_per_mol),
-            helium_molar_mass: f(HELIUM.molar_mass_kg_per_mol),
-            p_crit_pa: f(fl.p_crit_pa),
-            t_min_k: f(fl.t_min_k),
-            t_max_k: f(fl.t_max_k),
             s0_hi,
             s0_lo,
         }

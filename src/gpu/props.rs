@@ -7,6 +7,7 @@ use crate::fluids::{
 };
 use crate::geometry::{Shape, Tank};
 use crate::gpu_struct;
+use crate::model::state::vapor_enthalpy_offset_of;
 
 /// `v` as an unevaluated f32 sum `hi + lo` (about 48 significant bits), for differences
 /// like `T − t_min` that must stay accurate when the operand is close to `v`.
@@ -56,6 +57,12 @@ gpu_struct! {
         pub t_min_lo: f32,
         /// `t_max_k` (K).
         pub t_max: f32,
+        /// Molar mass (kg/mol).
+        pub molar_mass: f32,
+        /// Critical pressure (Pa), for the divergence check.
+        pub p_crit: f32,
+        /// Vapour enthalpy reference offset (J/kg), `model::state::vapor_enthalpy_offset`.
+        pub vapor_offset: f32,
         /// `T_mid = (t_min + t_max) / 2` split as `hi + lo` (K).
         pub t_mid_hi: f32,
         /// Low part of `T_mid` (K).
@@ -134,6 +141,9 @@ impl GpuFluid {
             t_min_hi,
             t_min_lo,
             t_max: f.t_max_k as f32,
+            molar_mass: f.molar_mass_kg_per_mol as f32,
+            p_crit: f.p_crit_pa as f32,
+            vapor_offset: vapor_enthalpy_offset_of(f) as f32,
             t_mid_hi,
             t_mid_lo,
             t_half: t_half as f32,
@@ -175,6 +185,8 @@ gpu_struct! {
     pub struct GpuGas {
         /// Specific gas constant `R_u / M` (J/(kg K)).
         pub r_specific: f32,
+        /// Molar mass (kg/mol).
+        pub molar_mass: f32,
         /// Ideal-gas `c_p` (J/(kg K)), for the kernels.
         pub cp: f32,
         /// Ideal-gas `c_v` (J/(kg K)), for the kernels.
@@ -201,6 +213,7 @@ impl GpuGas {
     pub fn new(g: &GasProps) -> GpuGas {
         GpuGas {
             r_specific: g.r_specific_j_per_kg_k() as f32,
+            molar_mass: g.molar_mass_kg_per_mol as f32,
             cp: g.cp_j_per_kg_k as f32,
             cv: g.cv_j_per_kg_k as f32,
             k_ref: g.k_ref_w_per_m_k as f32,

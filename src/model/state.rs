@@ -7,7 +7,7 @@
 //! (vented, drawn, pressurant, heat) live in the same vector for the same reason.
 
 use super::params::{Fidelity, Params};
-use crate::fluids::{Fluid, HELIUM};
+use crate::fluids::{Fluid, FluidProps, HELIUM};
 use std::sync::OnceLock;
 
 /// Vapour mass in the ullage, kg.
@@ -72,15 +72,15 @@ pub type State = [f64; NS];
 /// (it needs a T_sat solve, which the right-hand side must not repeat).
 pub fn vapor_enthalpy_offset(fluid: Fluid) -> f64 {
     static OFFSETS: OnceLock<[f64; 4]> = OnceLock::new();
-    let table = OFFSETS.get_or_init(|| {
-        Fluid::ALL.map(|fl| {
-            let f = fl.props();
-            let t_ref = f.tsat_k(101_325.0);
-            f.h_l_j_per_kg(t_ref) + f.h_fg_j_per_kg(t_ref) - f.cp_vapor_j_per_kg_k * t_ref
-        })
-    });
+    let table = OFFSETS.get_or_init(|| Fluid::ALL.map(|fl| vapor_enthalpy_offset_of(fl.props())));
     let i = Fluid::ALL.iter().position(|&x| x == fluid).unwrap_or(0);
     table[i]
+}
+
+/// The offset of [`vapor_enthalpy_offset`] computed for fit `f` (one T_sat solve).
+pub fn vapor_enthalpy_offset_of(f: &FluidProps) -> f64 {
+    let t_ref = f.tsat_k(101_325.0);
+    f.h_l_j_per_kg(t_ref) + f.h_fg_j_per_kg(t_ref) - f.cp_vapor_j_per_kg_k * t_ref
 }
 
 /// Initial wetted fraction of the wall and the liquid level for the initial fill.
