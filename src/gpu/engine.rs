@@ -15,7 +15,7 @@ use crate::model::derive::Derived;
 use crate::model::flight::Phase;
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::{State, M_V, NS};
-use crate::montecarlo::plan::{sample_inputs, InstanceRecord, Plan};
+use crate::montecarlo::plan::{InstanceRecord, Plan};
 use crate::simulate::{finish_summary, initial_state, Summary};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -228,27 +228,19 @@ impl GpuEngine {
 /// Sample and resolve instance `i`; instances the kernel cannot take finish on the CPU.
 fn prepare(plan: &Plan, i: u64) -> Prepared {
     let c = plan.campaign;
-    let inputs = sample_inputs(&c.dispersions, plan.seed, plan.total, i);
-    let resolved = if inputs.is_empty() {
-        Ok(None)
-    } else {
-        c.instance(&inputs).map(Some)
-    };
-    match resolved {
-        Ok(ci) => {
-            let ci = ci.as_ref().unwrap_or(c);
-            if ci.params.fluid != c.params.fluid || ci.phases.len() != c.phases.len() {
-                return Prepared::Done(Box::new(plan.run_instance(i)));
-            }
-            Prepared::Device(Box::new(DeviceInstance {
+    let (inputs, resolved) = plan.resolve(i);
+    if let Ok(ci) = &resolved {
+        let ci = ci.as_ref().unwrap_or(c);
+        if ci.params.fluid == c.params.fluid && ci.phases.len() == c.phases.len() {
+            return Prepared::Device(Box::new(DeviceInstance {
                 s0: initial_state(ci, &ci.params),
                 params: ci.params,
                 phases: ci.phases.clone(),
                 inputs,
-            }))
+            }));
         }
-        Err(_) => Prepared::Done(Box::new(plan.run_instance(i))),
     }
+    Prepared::Done(Box::new(plan.record(i, inputs, resolved)))
 }
 
 /// The instance summary from the kernel's record.

@@ -2,7 +2,7 @@
 //! Instance i depends only on (campaign, seed, total instances, i).
 
 use crate::campaign::dispersion::Dispersions;
-use crate::campaign::Campaign;
+use crate::campaign::{Campaign, CampaignError};
 use crate::sampling::{correlate, unit_sample};
 use crate::simulate::{simulate, Summary};
 
@@ -44,26 +44,33 @@ pub fn sample_inputs(d: &Dispersions, seed: u64, total: u64, i: u64) -> Vec<f64>
 }
 
 impl Plan<'_> {
-    /// Sample, build and integrate instance `i`.
-    pub fn run_instance(&self, i: u64) -> InstanceRecord {
+    /// Instance `i`'s sampled inputs and the campaign they resolve to (`None`: nothing is
+    /// dispersed, the nominal campaign itself); `Err` when a sample left a field's range.
+    pub fn resolve(&self, i: u64) -> (Vec<f64>, Result<Option<Campaign>, CampaignError>) {
         let c = self.campaign;
         let inputs = sample_inputs(&c.dispersions, self.seed, self.total, i);
-        if inputs.is_empty() {
-            let summary = simulate(c, &c.params, None);
-            return InstanceRecord {
-                instance: i,
-                inputs,
-                summary,
-                rejected: false,
-            };
-        }
-        match c.instance(&inputs) {
+        let resolved = if inputs.is_empty() {
+            Ok(None)
+        } else {
+            c.instance(&inputs).map(Some)
+        };
+        (inputs, resolved)
+    }
+
+    /// The record of instance `i`, integrated on the CPU from what [`Self::resolve`] gave.
+    pub fn record(
+        &self,
+        i: u64,
+        inputs: Vec<f64>,
+        resolved: Result<Option<Campaign>, CampaignError>,
+    ) -> InstanceRecord {
+        match resolved {
             Ok(ci) => {
-                let summary = simulate(&ci, &ci.params, None);
+                let ci = ci.as_ref().unwrap_or(self.campaign);
                 InstanceRecord {
                     instance: i,
                     inputs,
-                    summary,
+                    summary: simulate(ci, &ci.params, None),
                     rejected: false,
                 }
             }
@@ -77,5 +84,11 @@ impl Plan<'_> {
                 rejected: true,
             },
         }
+    }
+
+    /// Sample, build and integrate instance `i`.
+    pub fn run_instance(&self, i: u64) -> InstanceRecord {
+        let (inputs, resolved) = self.resolve(i);
+        self.record(i, inputs, resolved)
     }
 }
