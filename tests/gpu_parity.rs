@@ -10,6 +10,7 @@ use common::{load, CAMPAIGNS, LEVELS};
 use cryoslosh::engine::{CpuEngine, Engine};
 use cryoslosh::gpu::context;
 use cryoslosh::gpu::engine::GpuEngine;
+use cryoslosh::gpu::params::{GpuPhase, Tables};
 use cryoslosh::montecarlo::plan::{InstanceRecord, Plan};
 use cryoslosh::simulate::Summary;
 
@@ -66,6 +67,7 @@ fn compare(name: &str, level: &str, cpu: &[InstanceRecord], gpu: &[InstanceRecor
     for (c, g) in cpu.iter().zip(gpu) {
         assert_eq!(c.instance, g.instance);
         assert_eq!(c.inputs, g.inputs, "{name}/{level}: inputs differ");
+        assert_eq!(c.rejected, g.rejected, "{name}/{level}: rejection differs");
         let (c, g) = (&c.summary, &g.summary);
         if (c.cavitation, c.overpressure, c.diverged) == (g.cavitation, g.overpressure, g.diverged)
         {
@@ -77,10 +79,15 @@ fn compare(name: &str, level: &str, cpu: &[InstanceRecord], gpu: &[InstanceRecor
         share >= 0.999 || n - flag_agree == 0,
         "{name}/{level}: flags agree on {flag_agree} of {n}"
     );
-    let ok =
-        |r: &&(&InstanceRecord, &InstanceRecord)| !r.0.summary.diverged && !r.1.summary.diverged;
+    let ok = |r: &&(&InstanceRecord, &InstanceRecord)| {
+        !r.0.rejected && !r.0.summary.diverged && !r.1.summary.diverged
+    };
     let pairs: Vec<(&InstanceRecord, &InstanceRecord)> = cpu.iter().zip(gpu).collect();
     let pairs: Vec<_> = pairs.iter().filter(ok).collect();
+    assert!(
+        !pairs.is_empty(),
+        "{name}/{level}: no instance was integrated"
+    );
     for (qoi, floor, get) in QOIS {
         let mut rel = Vec::new();
         let (mut cv, mut gv) = (Vec::new(), Vec::new());
@@ -149,4 +156,49 @@ fn gpu_runs_are_bit_identical() {
     let a = gpu.run_block(&plan, 0..64).unwrap();
     let b = gpu.run_block(&plan, 0..64).unwrap();
     assert_eq!(a, b);
+}
+
+#[test]
+fn gpu_matches_cpu_with_a_table_excitation() {
+    // LOX ascent with its sweep replaced by a tabulated lateral and axial excitation.
+    let dir = std::env::temp_dir().join(format!("cryoslosh_table_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(common::campaign_path("lox_ascent")).unwrap();
+    let sweep = r#"excitation = { kind = "sweep", amplitude_m_s2 = 0.2, f_start_hz = 0.3, f_end_hz = 1.2, duration_s = 120.0 }"#;
+    assert!(text.contains(sweep), "the shipped LOX campaign changed");
+    let text = text.replace(
+        sweep,
+        r#"excitation = { kind = "table", file = "ascent.csv" }"#,
+    );
+    std::fs::write(dir.join("c.toml"), text).unwrap();
+    std::fs::write(
+        dir.join("ascent.csv"),
+        "time_s,a_lat_m_s2,a_ax_m_s2\n0,0,0\n10,0.2,0.5\n20,-0.2,0\n35,0.1,-0.3\n60,0,0\n",
+    )
+    .unwrap();
+    let c = cryoslosh::campaign::Campaign::load(&dir.join("c.toml"), &[]).unwrap();
+
+    // Every instance's phase uses the same table: it is uploaded once.
+    let mut tables = Tables::default();
+    for _ in 0..3 {
+        GpuPhase::new(&c.phases[1], &mut tables);
+    }
+    assert_eq!(tables.rows.len(), 3 * 5);
+
+    let Some(gpu) = engine() else { return };
+    let cpu = CpuEngine::new(0).unwrap();
+    let plan = Plan {
+        campaign: &c,
+        seed: c.seed,
+        total: 32,
+    };
+    // Instances re-read the table when their dispersed values are applied.
+    let a = cpu.run_block(&plan, 0..32).unwrap();
+    let b = gpu.run_block(&plan, 0..32).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(a
+        .iter()
+        .chain(&b)
+        .all(|r| !r.rejected && !r.summary.diverged));
+    compare("lox_ascent_table", "lumped", &a, &b);
 }

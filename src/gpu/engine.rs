@@ -7,7 +7,7 @@
 
 use super::context::{Gpu, GpuError};
 use super::params::{
-    fluid_records, join, GpuControl, GpuParams, GpuPhase, GpuResult, DIVERGED_REASONS,
+    fluid_records, join, GpuControl, GpuParams, GpuPhase, GpuResult, Tables, DIVERGED_REASONS,
 };
 use super::props::{props_wgsl, GpuFluid, GpuGas};
 use crate::engine::Engine;
@@ -333,7 +333,7 @@ impl Engine for GpuEngine {
         let n_phases = c.phases.len();
         let mut done: Vec<Option<InstanceRecord>> = vec![None; prepared.len()];
         for batch in device_idx.chunks(self.max_batch(n_phases)) {
-            let mut table = Vec::new();
+            let mut tables = Tables::default();
             let mut max_steps = 0u64;
             let mut params = Vec::with_capacity(batch.len());
             let mut phases = Vec::with_capacity(batch.len() * n_phases);
@@ -343,10 +343,10 @@ impl Engine for GpuEngine {
                 };
                 max_steps = max_steps.max(d.phases.iter().map(|x| x.steps().0).sum());
                 params.push(GpuParams::new(&d.params, n_phases, &d.s0));
-                phases.extend(d.phases.iter().map(|ph| GpuPhase::new(ph, &mut table)));
+                phases.extend(d.phases.iter().map(|ph| GpuPhase::new(ph, &mut tables)));
             }
             let results = self
-                .dispatch(&fluid, &gas, &params, &phases, &table, max_steps)
+                .dispatch(&fluid, &gas, &params, &phases, &tables.rows, max_steps)
                 .map_err(|e| e.to_string())?;
             let summaries: Vec<Summary> = batch
                 .par_iter()

@@ -270,82 +270,96 @@ impl GpuParams {
     }
 }
 
+/// Excitation tables of one upload as rows (t, a_lat, a_ax): each distinct table is stored once
+/// however many instances' phases use it (tables are read from a file, rarely dispersed).
+#[derive(Default)]
+pub struct Tables {
+    /// The rows, flattened.
+    pub rows: Vec<f32>,
+    /// Tables stored so far and their first row.
+    stored: Vec<(Excitation, u32)>,
+}
+
+impl Tables {
+    /// First row and row count of table excitation `e` (`time_s`, `a_lat`, `a_ax`), stored once.
+    fn place(&mut self, e: &Excitation, time_s: &[f64], a_lat: &[f64], a_ax: &[f64]) -> (u32, u32) {
+        let len = time_s.len() as u32;
+        if let Some((_, start)) = self.stored.iter().find(|(x, _)| x == e) {
+            return (*start, len);
+        }
+        let start = (self.rows.len() / 3) as u32;
+        for ((t, l), x) in time_s.iter().zip(a_lat).zip(a_ax) {
+            self.rows.extend([*t as f32, *l as f32, *x as f32]);
+        }
+        self.stored.push((e.clone(), start));
+        (start, len)
+    }
+}
+
+fn phase_code(k: PhaseKind) -> u32 {
+    match k {
+        PhaseKind::Hold => 0,
+        PhaseKind::Burn => 1,
+        PhaseKind::Coast => 2,
+    }
+}
+
 impl GpuPhase {
-    /// The phase in f32; a table excitation's rows are appended to `table` as (t, a_lat, a_ax).
-    pub fn new(ph: &Phase, table: &mut Vec<f32>) -> GpuPhase {
+    /// The phase in f32; a table excitation's rows go to `tables`.
+    pub fn new(ph: &Phase, tables: &mut Tables) -> GpuPhase {
         let (n, dt) = ph.steps();
-        let (kind, mut e) = (exc::NONE, [0.0f64; 4]);
-        let mut out = GpuPhase {
-            kind: match ph.kind {
-                PhaseKind::Hold => 0,
-                PhaseKind::Burn => 1,
-                PhaseKind::Coast => 2,
-            },
-            n_steps: n as u32,
-            pressurize: u32::from(ph.pressurize),
-            exc_kind: kind,
-            table_start: 0,
-            table_len: 0,
-            dt: dt as f32,
-            thrust_n: ph.thrust_n as f32,
-            gamma_rad: ph.flight_path_angle_rad as f32,
-            gravity: ph.gravity_m_s2 as f32,
-            exc: [0.0; 4],
-        };
-        out.exc_kind = match &ph.excitation {
-            Excitation::None => exc::NONE,
+        let (mut table_start, mut table_len) = (0, 0);
+        let (exc_kind, e) = match &ph.excitation {
+            Excitation::None => (exc::NONE, [0.0; 4]),
             Excitation::Step { amplitude, start_s } => {
-                e = [*amplitude, *start_s, 0.0, 0.0];
-                exc::STEP
+                (exc::STEP, [*amplitude, *start_s, 0.0, 0.0])
             }
             Excitation::Ramp {
                 amplitude,
                 start_s,
                 duration_s,
-            } => {
-                e = [*amplitude, *start_s, *duration_s, 0.0];
-                exc::RAMP
-            }
+            } => (exc::RAMP, [*amplitude, *start_s, *duration_s, 0.0]),
             Excitation::Sine {
                 amplitude,
                 frequency_hz,
                 phase_rad,
-            } => {
-                e = [*amplitude, *frequency_hz, *phase_rad, 0.0];
-                exc::SINE
-            }
+            } => (exc::SINE, [*amplitude, *frequency_hz, *phase_rad, 0.0]),
             Excitation::Sweep {
                 amplitude,
                 f_start_hz,
                 f_end_hz,
                 duration_s,
-            } => {
-                e = [*amplitude, *f_start_hz, *f_end_hz, *duration_s];
-                exc::SWEEP
-            }
+            } => (
+                exc::SWEEP,
+                [*amplitude, *f_start_hz, *f_end_hz, *duration_s],
+            ),
             Excitation::Gust {
                 amplitude,
                 start_s,
                 duration_s,
-            } => {
-                e = [*amplitude, *start_s, *duration_s, 0.0];
-                exc::GUST
-            }
+            } => (exc::GUST, [*amplitude, *start_s, *duration_s, 0.0]),
             Excitation::Table {
                 time_s,
                 a_lat,
                 a_ax,
             } => {
-                out.table_start = (table.len() / 3) as u32;
-                out.table_len = time_s.len() as u32;
-                for i in 0..time_s.len() {
-                    table.extend([time_s[i] as f32, a_lat[i] as f32, a_ax[i] as f32]);
-                }
-                exc::TABLE
+                (table_start, table_len) = tables.place(&ph.excitation, time_s, a_lat, a_ax);
+                (exc::TABLE, [0.0; 4])
             }
         };
-        out.exc = e.map(|v| v as f32);
-        out
+        GpuPhase {
+            kind: phase_code(ph.kind),
+            n_steps: n as u32,
+            pressurize: u32::from(ph.pressurize),
+            exc_kind,
+            table_start,
+            table_len,
+            dt: dt as f32,
+            thrust_n: ph.thrust_n as f32,
+            gamma_rad: ph.flight_path_angle_rad as f32,
+            gravity: ph.gravity_m_s2 as f32,
+            exc: e.map(|v: f64| v as f32),
+        }
     }
 }
 
@@ -407,9 +421,9 @@ pub fn constants_wgsl() -> String {
         ("FID_HOMOGENEOUS", fidelity_code(Fidelity::Homogeneous)),
         ("FID_LUMPED", fidelity_code(Fidelity::Lumped)),
         ("FID_TWO_MODE", fidelity_code(Fidelity::TwoMode)),
-        ("PHASE_HOLD", 0),
-        ("PHASE_BURN", 1),
-        ("PHASE_COAST", 2),
+        ("PHASE_HOLD", phase_code(PhaseKind::Hold)),
+        ("PHASE_BURN", phase_code(PhaseKind::Burn)),
+        ("PHASE_COAST", phase_code(PhaseKind::Coast)),
     ] {
         u(name, v);
     }
