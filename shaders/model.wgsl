@@ -551,6 +551,19 @@ fn helium_inlet_enthalpy() -> f32 {
 
 // ---------------------------------------------------------------- nodes.rs
 
+/// (wetted-wall ↔ liquid, dry-wall ↔ gas) coefficients: the campaign's, or Churchill–Chu.
+fn wall_coefficients(x: Derived, liq: Conv, gas: Conv, t_liquid: f32, t_gas: f32) -> vec2<f32> {
+    var h_wl = P.h_wall_liquid;
+    if ((P.flags & FLAG_H_WALL_LIQUID) == 0u) {
+        h_wl = h_vertical_wall(liq, x.a_ax, x.t_ww - t_liquid, x.level);
+    }
+    var h_wu = P.h_wall_ullage;
+    if ((P.flags & FLAG_H_WALL_ULLAGE) == 0u) {
+        h_wu = h_vertical_wall(gas, x.a_ax, x.t_wd - t_gas, tank_height() - x.level);
+    }
+    return vec2<f32>(h_wl, h_wu);
+}
+
 /// (dH/dt, dV/dt) of a liquid node doing P dV work on the ullage.
 fn liquid_node_rates(p_pa: f32, flux_w: f32, dm: f32, t: f32, rho: f32) -> vec2<f32> {
     let beta = -fl_drho_l_dt(t) / (rho * rho * fl_cp_l(t));
@@ -591,14 +604,9 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     let liq = liquid_props(t_b);
     let gas = gas_props(s, x);
-    var h_wl = P.h_wall_liquid;
-    if ((P.flags & FLAG_H_WALL_LIQUID) == 0u) {
-        h_wl = h_vertical_wall(liq, x.a_ax, x.t_ww - t_b, x.level);
-    }
-    var h_wu = P.h_wall_ullage;
-    if ((P.flags & FLAG_H_WALL_ULLAGE) == 0u) {
-        h_wu = h_vertical_wall(gas, x.a_ax, x.t_wd - t_u, tank_height() - x.level);
-    }
+    let h_w = wall_coefficients(x, liq, gas, t_b, t_u);
+    let h_wl = h_w.x;
+    let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let c_bulk = max((*s)[M_B], 1.0e-9) * liq.cp;
     let c_gas = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
@@ -682,14 +690,9 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let liq = liquid_props(t);
     let gas = gas_props(s, x);
     let m_u = x.m_v + (*s)[M_G];
-    var h_wl = P.h_wall_liquid;
-    if ((P.flags & FLAG_H_WALL_LIQUID) == 0u) {
-        h_wl = h_vertical_wall(liq, x.a_ax, x.t_ww - t, x.level);
-    }
-    var h_wu = P.h_wall_ullage;
-    if ((P.flags & FLAG_H_WALL_ULLAGE) == 0u) {
-        h_wu = h_vertical_wall(gas, x.a_ax, x.t_wd - t, tank_height() - x.level);
-    }
+    let h_w = wall_coefficients(x, liq, gas, t, t);
+    let h_wl = h_w.x;
+    let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let c_fluid = x.m_l * liq.cp + m_u * FL.cv_vapor;
     let ua_wl = limited_conductance(h_wl * a_wet, dt, c_wall * x.wet, c_fluid);

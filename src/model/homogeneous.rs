@@ -99,18 +99,7 @@ pub fn rhs(
     let liq = super::nodes::liquid_props(p, t);
     let gas = super::nodes::gas_props(p, s, x);
     let m_u = x.m_vapor_kg + s[M_G];
-    let ht = &p.heat_transfer;
-    let h_wl = ht
-        .h_wall_liquid_w_per_m2_k
-        .unwrap_or_else(|| thermal::h_vertical_wall(&liq, x.a_ax, x.t_wall_wet_k - t, x.level_m));
-    let h_wu = ht.h_wall_ullage_w_per_m2_k.unwrap_or_else(|| {
-        thermal::h_vertical_wall(
-            &gas,
-            x.a_ax,
-            x.t_wall_dry_k - t,
-            p.tank.height_m() - x.level_m,
-        )
-    });
+    let (h_wl, h_wu) = super::nodes::wall_coefficients(p, x, &liq, &gas, t, t);
     // The fluid's heat capacity is far larger than a wall node's: the wall side limits the step.
     let c_wall = p.wall_areal_mass_kg_per_m2 * a_tot * p.wall_cp_j_per_kg_k;
     let c_fluid = x.m_liquid_kg * liq.cp + m_u * f.cv_vapor_j_per_kg_k;

@@ -61,6 +61,31 @@ pub(super) fn gas_props(p: &Params, s: &State, x: &Derived) -> ConvectionProps {
     }
 }
 
+/// Wetted-wall ↔ liquid and dry-wall ↔ gas coefficients, W/(m²·K): the campaign's constants, or
+/// Churchill–Chu on the wetted and dry heights with the liquid at `t_liquid`, the gas at `t_gas`.
+pub(super) fn wall_coefficients(
+    p: &Params,
+    x: &Derived,
+    liq: &ConvectionProps,
+    gas: &ConvectionProps,
+    t_liquid: f64,
+    t_gas: f64,
+) -> (f64, f64) {
+    let ht = &p.heat_transfer;
+    let h_wl = ht.h_wall_liquid_w_per_m2_k.unwrap_or_else(|| {
+        thermal::h_vertical_wall(liq, x.a_ax, x.t_wall_wet_k - t_liquid, x.level_m)
+    });
+    let h_wu = ht.h_wall_ullage_w_per_m2_k.unwrap_or_else(|| {
+        thermal::h_vertical_wall(
+            gas,
+            x.a_ax,
+            x.t_wall_dry_k - t_gas,
+            p.tank.height_m() - x.level_m,
+        )
+    });
+    (h_wl, h_wu)
+}
+
 /// Enthalpy change of a liquid node whose own volume change does work P dV on the ullage:
 /// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² c_p). Returns (dH/dt, dV/dt).
 fn liquid_node_rates(p_pa: f64, flux_w: f64, dm: f64, t: f64, rho: f64, p: &Params) -> (f64, f64) {
@@ -87,17 +112,7 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
     // Wall heat transfer (Churchill–Chu on each wetted and dry height).
     let liq = liquid_props(p, t_b);
     let gas = gas_props(p, s, x);
-    let h_wl = ht
-        .h_wall_liquid_w_per_m2_k
-        .unwrap_or_else(|| thermal::h_vertical_wall(&liq, x.a_ax, x.t_wall_wet_k - t_b, x.level_m));
-    let h_wu = ht.h_wall_ullage_w_per_m2_k.unwrap_or_else(|| {
-        thermal::h_vertical_wall(
-            &gas,
-            x.a_ax,
-            x.t_wall_dry_k - t_u,
-            p.tank.height_m() - x.level_m,
-        )
-    });
+    let (h_wl, h_wu) = wall_coefficients(p, x, &liq, &gas, t_b, t_u);
     // The wetted wall passes its heat into the liquid with a uniform flux; each liquid node takes
     // the share of the wetted band it touches (MODEL.md §4): the layer the band between the
     // interface and its own depth, the bulk the rest. A single wall node at the bulk temperature
