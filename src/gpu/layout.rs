@@ -1,6 +1,6 @@
 //! Rust ↔ WGSL data layout: every struct the kernels read or write is declared once here with
 //! [`gpu_struct!`], which derives the `#[repr(C)]` bytemuck type and emits the matching WGSL
-//! declaration, so the two cannot disagree. Fields are `f32`, `u32`, arrays of them or other such structs only: their
+//! declaration, so the two cannot disagree. Fields are `f32`, `u32`, `[f32; N]` or other such structs only: their
 //! alignment is 4 in both languages, so neither side inserts padding (storage buffers only).
 
 /// WGSL spelling of a field type.
@@ -24,12 +24,6 @@ impl WgslType for u32 {
 impl<const N: usize> WgslType for [f32; N] {
     fn wgsl() -> String {
         format!("array<f32, {N}>")
-    }
-}
-
-impl<const N: usize> WgslType for [u32; N] {
-    fn wgsl() -> String {
-        format!("array<u32, {N}>")
     }
 }
 
