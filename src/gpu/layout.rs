@@ -1,7 +1,8 @@
 //! Rust ↔ WGSL data layout: every struct the kernels read or write is declared once here with
 //! [`gpu_struct!`], which derives the `#[repr(C)]` bytemuck type and emits the matching WGSL
-//! declaration, so the two cannot disagree. Fields are `f32`, `u32`, `[f32; N]` or other such structs only: their
-//! alignment is 4 in both languages, so neither side inserts padding (storage buffers only).
+//! declaration, so the two cannot disagree. Fields are `f32`, `u32`, `[f32; N]` or other such
+//! structs only: their alignment is 4 in both languages, so neither side inserts padding
+//! (storage buffers only).
 
 /// WGSL spelling of a field type.
 pub trait WgslType {
