@@ -354,15 +354,24 @@ fn t_from_h_inverts_h() {
             .chain(below)
             .chain(above);
         for t in temps {
-            let back = p.t_from_h_l_k(p.h_l_j_per_kg(t));
+            let h = p.h_l_j_per_kg(t);
+            let back = p.t_from_h_l_k(h);
             let e = rel(back, t);
             assert!(
                 e <= 1e-10,
                 "{n} T(h_l(T)) at T = {t} K: {back} K, error {e:.3e}"
             );
+            // The propellant's table-started inversion finds the same root.
+            let tabled = f.t_from_h_l_k(h);
+            let d = rel(tabled, back);
+            assert!(
+                d <= 1e-14,
+                "{n} at T = {t} K: tabled {tabled} K vs {back} K ({d:.1e})"
+            );
         }
         assert_eq!(p.h_l_j_per_kg(p.t_min_k), 0.0, "{n}: h_l(t_min) = 0");
         assert!(p.t_from_h_l_k(f64::NAN).is_nan());
+        assert!(f.t_from_h_l_k(f64::NAN).is_nan());
     }
 }
 
@@ -429,7 +438,18 @@ fn analytic_derivatives_match_finite_differences() {
                 "{n} dP_sat/dT at T = {t} K: analytic {a:e}, FD {d:e}, error {e:.3e}"
             );
             assert!(a > 0.0, "{n} dP_sat/dT not positive at T = {t} K");
+            let both = p.psat_and_slope(t);
+            assert_eq!(both, (p.psat_pa(t), a), "{n} psat_and_slope at T = {t} K");
         }
+        for t in [-1.0e6, 1.0e6] {
+            let both = p.psat_and_slope(t);
+            assert_eq!(
+                both,
+                (p.psat_pa(t), p.dpsat_dt_pa_per_k(t)),
+                "{n} limited at {t} K"
+            );
+        }
+        assert!(p.psat_and_slope(f64::NAN).0.is_nan());
         for t in interior(p, 300) {
             let a = p.drho_l_dt(t);
             let d = fd(|t| p.rho_l_kg_per_m3(t), t, 1e-3);

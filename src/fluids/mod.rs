@@ -82,6 +82,7 @@
 //! (at `0.9 T_crit`: k by 30–40 %, μ by 13–18 %). Power laws are evaluated with `T`
 //! clamped to `[1, 10 000] K`.
 
+mod inverse;
 pub mod table;
 
 pub use table::HELIUM;
@@ -135,6 +136,15 @@ impl Fluid {
     /// case-sensitive); `None` for anything else.
     pub fn from_name(s: &str) -> Option<Fluid> {
         Fluid::ALL.into_iter().find(|f| f.name() == s)
+    }
+
+    /// [`FluidProps::t_from_h_l_k`] of this propellant (the same root to rounding), with the
+    /// Newton iteration started from the propellant's inverse table: one step, two near t_min_k.
+    pub fn t_from_h_l_k(self, h_j_per_kg: f64) -> f64 {
+        let table = inverse::hl_inverse(self);
+        let (base, h_max) = table.limits();
+        self.props()
+            .invert_h_l(h_j_per_kg, base, h_max, |h| table.guess(h))
     }
 
     /// The constants and fit coefficients of this propellant (from [`table`]).
@@ -215,13 +225,24 @@ pub(crate) fn poly_deriv(c: &[f64; NCOEF], x: f64) -> f64 {
         .fold(0.0, |acc, (i, &a)| acc * x + i as f64 * a)
 }
 
+/// `1 / (i + 1)`: the antiderivative's divisors as factors (a multiply, not a divide, per term).
+const RECIPROCALS: [f64; NCOEF] = [
+    1.0,
+    1.0 / 2.0,
+    1.0 / 3.0,
+    1.0 / 4.0,
+    1.0 / 5.0,
+    1.0 / 6.0,
+    1.0 / 7.0,
+    1.0 / 8.0,
+];
+
 /// Horner evaluation of the antiderivative `Σ c_i x^(i+1) / (i+1)` (zero at x = 0).
 #[inline]
 fn poly_integral(c: &[f64; NCOEF], x: f64) -> f64 {
-    c.iter()
-        .enumerate()
+    (0..NCOEF)
         .rev()
-        .fold(0.0, |acc, (i, &a)| acc * x + a / (i + 1) as f64)
+        .fold(0.0, |acc, i| acc * x + c[i] * RECIPROCALS[i])
         * x
 }
 
@@ -299,6 +320,17 @@ impl FluidProps {
             return 0.0;
         }
         ln_p.exp() * slope / self.t_half()
+    }
+
+    /// [`Self::psat_pa`] and [`Self::dpsat_dt_pa_per_k`] together (one polynomial pair, one
+    /// exponential), bit for bit equal to the two calls.
+    pub fn psat_and_slope(&self, t_k: f64) -> (f64, f64) {
+        let (ln_p, slope) = self.ln_psat_and_slope(t_k);
+        let p = ln_p.clamp(-LN_P_LIMIT, LN_P_LIMIT).exp();
+        if ln_p.abs() > LN_P_LIMIT {
+            return (p, 0.0);
+        }
+        (p, p * slope / self.t_half())
     }
 
     /// Saturation temperature at pressure `p_pa` (Pa), in K: inverse of
@@ -404,20 +436,45 @@ impl FluidProps {
     /// inverse of [`Self::h_l_j_per_kg`], including its linear continuation outside
     /// the range. Safeguarded Newton iteration converged to 1e-12 relative in T.
     pub fn t_from_h_l_k(&self, h_j_per_kg: f64) -> f64 {
+        let (base, h_max) = self.h_l_limits();
+        self.invert_h_l(h_j_per_kg, base, h_max, |h| {
+            (2.0 * h / h_max - 1.0).clamp(-1.0, 1.0)
+        })
+    }
+
+    /// The antiderivative of the `c_p,l` fit at x = −1 and `h_l(t_max_k)`, J/kg.
+    fn h_l_limits(&self) -> (f64, f64) {
+        let base = poly_integral(&self.cp_l, -1.0);
+        (
+            base,
+            self.t_half() * (poly_integral(&self.cp_l, 1.0) - base),
+        )
+    }
+
+    /// [`Self::t_from_h_l_k`] given [`Self::h_l_limits`], with the Newton iteration started at
+    /// `start(h)`, a normalised temperature in [−1, 1] (used only for 0 < h < h_max).
+    fn invert_h_l(
+        &self,
+        h_j_per_kg: f64,
+        base: f64,
+        h_max: f64,
+        start: impl FnOnce(f64) -> f64,
+    ) -> f64 {
         if h_j_per_kg.is_nan() {
             return f64::NAN;
         }
         if h_j_per_kg <= 0.0 {
             return self.t_min_k + h_j_per_kg / poly(&self.cp_l, -1.0);
         }
-        let h_max = self.h_l_of_x(1.0);
         if h_j_per_kg >= h_max {
             return self.t_max_k + (h_j_per_kg - h_max) / poly(&self.cp_l, 1.0);
         }
-        let mut x = (2.0 * h_j_per_kg / h_max - 1.0).clamp(-1.0, 1.0);
+        // h_l_of_x with the constant lower limit of the integral given.
+        let h_of_x = |x: f64| self.t_half() * (poly_integral(&self.cp_l, x) - base);
+        let mut x = start(h_j_per_kg);
         let (mut lo, mut hi) = (-1.0_f64, 1.0_f64);
         for _ in 0..MAX_ITER {
-            let f = self.h_l_of_x(x) - h_j_per_kg;
+            let f = h_of_x(x) - h_j_per_kg;
             if f == 0.0 {
                 break;
             }

@@ -13,18 +13,14 @@ use crate::geometry::Tank;
 /// Smallest wetted or dry share of the wall mass: keeps both wall nodes finite at 0 % and 100 %.
 pub const MIN_WALL_SHARE: f64 = 1.0e-3;
 
-/// Wetted share of the wall area at level `z`, clamped to [MIN_WALL_SHARE, 1 − MIN_WALL_SHARE].
-pub fn wetted_fraction(tank: &Tank, z: f64) -> f64 {
-    (tank.wetted_area_m2(z) / tank.wall_area_m2()).clamp(MIN_WALL_SHARE, 1.0 - MIN_WALL_SHARE)
-}
-
-/// d(wetted share)/dz, 1/m, zero where the clamp is active.
-fn wetted_fraction_slope(tank: &Tank, z: f64) -> f64 {
+/// Wetted share of the wall area at level `z`, clamped to [MIN_WALL_SHARE, 1 − MIN_WALL_SHARE],
+/// and its slope d(share)/dz, 1/m, zero where the clamp is active.
+pub fn wetted_share(tank: &Tank, z: f64) -> (f64, f64) {
     let raw = tank.wetted_area_m2(z) / tank.wall_area_m2();
     if raw <= MIN_WALL_SHARE || raw >= 1.0 - MIN_WALL_SHARE {
-        0.0
+        (raw.clamp(MIN_WALL_SHARE, 1.0 - MIN_WALL_SHARE), 0.0)
     } else {
-        tank.wetted_area_slope_m(z) / tank.wall_area_m2()
+        (raw, tank.wetted_area_slope_m(z) / tank.wall_area_m2())
     }
 }
 
@@ -181,8 +177,7 @@ pub fn fill_level(p: &Params, out: &mut Derived, v_liquid: f64) {
         .tank
         .interface_area_m2(z)
         .max(1.0e-6 * p.tank.radius_m().powi(2));
-    out.wetted_share = wetted_fraction(&p.tank, z);
-    out.wetted_share_slope = wetted_fraction_slope(&p.tank, z);
+    (out.wetted_share, out.wetted_share_slope) = wetted_share(&p.tank, z);
 }
 
 /// Flight and slosh quantities shared by both thermal formulations.
@@ -201,8 +196,8 @@ fn derive_nodes(p: &Params, s: &State, d: &Drive) -> Derived {
     let mut out = Derived::default();
     let m_s = s[M_S].max(1.0e-12);
     let m_b = s[M_B].max(1.0e-12);
-    out.t_layer_k = f.t_from_h_l_k(s[H_S] / m_s);
-    out.t_bulk_k = f.t_from_h_l_k(s[H_B] / m_b);
+    out.t_layer_k = p.fluid.t_from_h_l_k(s[H_S] / m_s);
+    out.t_bulk_k = p.fluid.t_from_h_l_k(s[H_B] / m_b);
     out.rho_layer = f.rho_l_kg_per_m3(out.t_layer_k);
     out.rho_bulk = f.rho_l_kg_per_m3(out.t_bulk_k);
     out.v_layer_m3 = s[M_S] / out.rho_layer;

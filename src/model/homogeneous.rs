@@ -37,7 +37,7 @@ pub fn fluid_energy(p: &Params, m_p: f64, m_g: f64, t: f64) -> f64 {
 pub fn temperature(p: &Params, m_p: f64, m_g: f64, e: f64) -> f64 {
     let f = p.fluid.props();
     let (lo, hi) = (f.t_min_k, f.t_max_k);
-    let mut t = f.t_from_h_l_k(e / m_p).clamp(lo, hi);
+    let mut t = p.fluid.t_from_h_l_k(e / m_p).clamp(lo, hi);
     for _ in 0..40 {
         let h = 1.0e-6 * t;
         let r = fluid_energy(p, m_p, m_g, t) - e;

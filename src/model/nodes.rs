@@ -32,17 +32,51 @@ pub struct Fluxes {
     pub slosh_force_n: f64,
 }
 
+/// The saturated-liquid fits one liquid node needs, evaluated once per right-hand side.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct NodeFits {
+    /// Temperature, K.
+    pub t: f64,
+    /// Density, kg/m³.
+    pub rho: f64,
+    /// Specific heat, J/(kg·K).
+    pub cp: f64,
+    /// dρ/dT, kg/(m³·K).
+    pub drho_dt: f64,
+    /// Specific enthalpy, J/kg.
+    pub h: f64,
+}
+
+impl NodeFits {
+    /// The fits at `t`, with the density `rho` the caller already has.
+    pub(super) fn at(p: &Params, t: f64, rho: f64) -> NodeFits {
+        let f = p.fluid.props();
+        NodeFits {
+            t,
+            rho,
+            cp: f.cp_l_j_per_kg_k(t),
+            drho_dt: f.drho_l_dt(t),
+            h: f.h_l_j_per_kg(t),
+        }
+    }
+
+    /// Liquid properties for convection.
+    pub(super) fn convection(&self, p: &Params) -> ConvectionProps {
+        let f = p.fluid.props();
+        ConvectionProps {
+            k: f.k_l_w_per_m_k(self.t),
+            mu: f.mu_l_pa_s(self.t),
+            rho: self.rho,
+            cp: self.cp,
+            beta: -self.drho_dt / self.rho,
+        }
+    }
+}
+
 /// Liquid properties for convection at temperature `t`.
 pub(super) fn liquid_props(p: &Params, t: f64) -> ConvectionProps {
-    let f = p.fluid.props();
-    let rho = f.rho_l_kg_per_m3(t);
-    ConvectionProps {
-        k: f.k_l_w_per_m_k(t),
-        mu: f.mu_l_pa_s(t),
-        rho,
-        cp: f.cp_l_j_per_kg_k(t),
-        beta: -f.drho_l_dt(t) / rho,
-    }
+    let rho = p.fluid.props().rho_l_kg_per_m3(t);
+    NodeFits::at(p, t, rho).convection(p)
 }
 
 /// Ullage-gas properties at the ullage temperature: mass-fraction-weighted vapour and helium
@@ -88,10 +122,9 @@ pub(super) fn wall_coefficients(
 
 /// Enthalpy change of a liquid node whose own volume change does work P dV on the ullage:
 /// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² c_p). Returns (dH/dt, dV/dt).
-fn liquid_node_rates(p_pa: f64, flux_w: f64, dm: f64, t: f64, rho: f64, p: &Params) -> (f64, f64) {
-    let f = p.fluid.props();
-    let beta = -f.drho_l_dt(t) / (rho * rho * f.cp_l_j_per_kg_k(t));
-    let h = f.h_l_j_per_kg(t);
+fn liquid_node_rates(p_pa: f64, flux_w: f64, dm: f64, n: &NodeFits) -> (f64, f64) {
+    let (rho, h) = (n.rho, n.h);
+    let beta = -n.drho_dt / (rho * rho * n.cp);
     let dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (1.0 + p_pa * beta);
     (dh, dm / rho + beta * (dh - h * dm))
 }
@@ -110,7 +143,11 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
     let speed = boundary::slosh_speed(p, s, x);
 
     // Wall heat transfer (Churchill–Chu on each wetted and dry height).
-    let liq = liquid_props(p, t_b);
+    let (bulk, layer) = (
+        NodeFits::at(p, t_b, x.rho_bulk),
+        NodeFits::at(p, t_s, x.rho_layer),
+    );
+    let liq = bulk.convection(p);
     let gas = gas_props(p, s, x);
     let (h_wl, h_wu) = wall_coefficients(p, x, &liq, &gas, t_b, t_u);
     // The wetted wall passes its heat into the liquid with a uniform flux; each liquid node takes
@@ -149,8 +186,8 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
     // Layer growth by conduction penetration: δ² = (π/4) α_eff t reproduces the surface
     // temperature of a semi-infinite liquid under constant flux (Carslaw & Jaeger §2.9), so
     // dm_s/dt = ρ A π α_eff / (8 δ), δ = m_s / (ρ A). Needs bulk liquid to entrain.
-    let alpha = p.stratification.diffusivity_factor * f.k_l_w_per_m_k(t_s)
-        / (x.rho_layer * f.cp_l_j_per_kg_k(t_s));
+    let alpha =
+        p.stratification.diffusivity_factor * f.k_l_w_per_m_k(t_s) / (x.rho_layer * layer.cp);
     let delta = (s[M_S] / (x.rho_layer * a_i)).max(1.0e-6);
     let bulk_left = (s[M_B] / (1.0e-4 * (s[M_B] + s[M_S]) + 1.0e-9)).clamp(0.0, 1.0);
     let m_strat = x.rho_layer * a_i * PI * alpha / (8.0 * delta) * bulk_left;
@@ -159,15 +196,15 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
     let b = boundary::boundary_flows(p, s, d, x);
     // Gas-side mass-transfer coefficient by the heat/mass analogy (Le ≈ 1): h_m = h / (ρ c_p).
     let h_mass_m_s = h_us / (gas.rho * gas.cp);
-    let m_evap = evaporation(p, s, x, dt, h_mass_m_s);
+    let h_fg = f.h_fg_j_per_kg(t_s);
+    let m_evap = evaporation(p, s, x, dt, h_mass_m_s, layer.cp, h_fg);
     // Engine draws from the bulk, then from the layer once the bulk is gone.
     let (out_b, out_s) = (b.out_kg_s * bulk_left, b.out_kg_s * (1.0 - bulk_left));
 
-    let h_ls = f.h_l_j_per_kg(t_s);
-    let h_lb = f.h_l_j_per_kg(t_b);
+    let (h_ls, h_lb) = (layer.h, bulk.h);
     let h_vap_gas = f.cp_vapor_j_per_kg_k * t_u + off;
     // Evaporating liquid carries h_l + h_fg at T_s; condensing vapour leaves at the gas enthalpy.
-    let e_evap = m_evap.max(0.0) * (h_ls + f.h_fg_j_per_kg(t_s)) + m_evap.min(0.0) * h_vap_gas;
+    let e_evap = m_evap.max(0.0) * (h_ls + h_fg) + m_evap.min(0.0) * h_vap_gas;
     let y = b.y_vapor;
     let h_u = y * h_vap_gas + (1.0 - y) * HELIUM.cp_j_per_kg_k * t_u;
     let h_press = boundary::helium_inlet_enthalpy(p);
@@ -183,8 +220,8 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
     let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls;
     let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
     let pu = x.p_ullage_pa;
-    let (dh_s, dv_s) = liquid_node_rates(pu, f_s, ds[M_S], t_s, x.rho_layer, p);
-    let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], t_b, x.rho_bulk, p);
+    let (dh_s, dv_s) = liquid_node_rates(pu, f_s, ds[M_S], &layer);
+    let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], &bulk);
     ds[H_S] = dh_s;
     ds[H_B] = dh_b;
 
@@ -223,7 +260,16 @@ pub fn rhs(p: &Params, s: &State, d: &Drive, x: &Derived, dt: f64, ds: &mut Stat
 /// over the step: ṁ = K Δp / (1 + dt K J), J = ∂(P_v − P_sat)/∂m = R_v T_u / V_u +
 /// P_sat'(T_s) h_fg / (m_s c_p), which is K Δp when K dt J ≪ 1 and the one-step relaxation of Δp
 /// when K dt J ≫ 1, keeping the explicit RK step stable at any K.
-pub fn evaporation(p: &Params, s: &State, x: &Derived, dt: f64, h_mass_m_s: f64) -> f64 {
+/// `cp_layer` and `h_fg` are the layer's c_p,l and latent heat at T_s.
+pub fn evaporation(
+    p: &Params,
+    s: &State,
+    x: &Derived,
+    dt: f64,
+    h_mass_m_s: f64,
+    cp_layer: f64,
+    h_fg: f64,
+) -> f64 {
     let f = p.fluid.props();
     let t_s = x.t_layer_k;
     let rv = f.r_specific_j_per_kg_k();
@@ -243,9 +289,8 @@ pub fn evaporation(p: &Params, s: &State, x: &Derived, dt: f64, h_mass_m_s: f64)
     let x_he = moles_g / (moles_v + moles_g).max(1.0e-300);
     let diffusion = x_he * rv * x.t_ullage_k / (h_mass_m_s * x.interface_area_m2).max(1.0e-300);
     let k = 1.0 / (1.0 / k_kin + diffusion);
-    let dp = f.psat_pa(t_s) - x.p_vapor_pa;
-    let j = rv * x.t_ullage_k / x.v_ullage_m3
-        + f.dpsat_dt_pa_per_k(t_s) * f.h_fg_j_per_kg(t_s)
-            / (s[M_S].max(1.0e-9) * f.cp_l_j_per_kg_k(t_s));
+    let (psat, dpsat_dt) = f.psat_and_slope(t_s);
+    let dp = psat - x.p_vapor_pa;
+    let j = rv * x.t_ullage_k / x.v_ullage_m3 + dpsat_dt * h_fg / (s[M_S].max(1.0e-9) * cp_layer);
     k * dp / (1.0 + dt * k * j)
 }

@@ -63,7 +63,9 @@ pub fn wall_damping(nu: f64, r: f64, a_ax: f64, h_over_r: f64) -> f64 {
     let hr = h_over_r.max(MIN_DEPTH_RATIO);
     let x = 1.84 * hr;
     let shape = 1.0 + (0.318 / x.sinh()) * (1.0 + (1.0 - hr) / x.cosh());
-    (4.98 / (2.0 * PI)) * nu.sqrt() * r.powf(-0.75) * a_ax.max(MIN_AXIAL_ACCEL).powf(-0.25) * shape
+    // r^(-3/4) a^(-1/4) = (r³ a)^(-1/4), by two square roots.
+    let a = a_ax.max(MIN_AXIAL_ACCEL);
+    (4.98 / (2.0 * PI)) * nu.sqrt() * shape / (r * r * r * a).sqrt().sqrt()
 }
 
 /// Ring-baffle damping ratio (Miles 1958, SP-106 eq. 4.15): only rings below the surface count,
@@ -82,5 +84,5 @@ pub fn baffle_damping(b: &Baffles, r: f64, z_surface_m: f64) -> f64 {
             sum += (-4.6 * depth / r).exp();
         }
     }
-    2.83 * (b.wave_amplitude_m / r).sqrt() * sum * alpha.powf(1.5)
+    2.83 * (b.wave_amplitude_m / r).sqrt() * sum * alpha * alpha.sqrt()
 }
