@@ -246,10 +246,17 @@ fn poly_integral(c: &[f64; NCOEF], x: f64) -> f64 {
         * x
 }
 
-/// `y_ref (T / t_ref)^n` with T clamped to the power-law range.
+/// `ln(T / t_ref)` with T clamped to the power-law range: one logarithm serves every law with
+/// that reference temperature.
 #[inline]
-fn power_law(y_ref: f64, t_ref: f64, n: f64, t_k: f64) -> f64 {
-    y_ref * (t_k.clamp(POWER_LAW_T_MIN_K, POWER_LAW_T_MAX_K) / t_ref).powf(n)
+fn power_law_log(t_ref: f64, t_k: f64) -> f64 {
+    (t_k.clamp(POWER_LAW_T_MIN_K, POWER_LAW_T_MAX_K) / t_ref).ln()
+}
+
+/// `y_ref (T / t_ref)^n` from `ln(T / t_ref)` ([`power_law_log`]).
+#[inline]
+fn power_law(y_ref: f64, n: f64, log_ratio: f64) -> f64 {
+    y_ref * (n * log_ratio).exp()
 }
 
 impl FluidProps {
@@ -521,22 +528,21 @@ impl FluidProps {
     /// Vapour (dilute-gas) thermal conductivity at `t_k` (K), in W/(m K): power law
     /// fitted over `t_min_k .. 400 K` (T clamped to `[1, 10 000] K`).
     pub fn k_v_w_per_m_k(&self, t_k: f64) -> f64 {
-        power_law(
-            self.k_vapor_ref_w_per_m_k,
-            self.vapor_t_ref_k,
-            self.k_vapor_exp,
-            t_k,
-        )
+        self.vapor_transport(t_k).0
     }
 
     /// Vapour (dilute-gas) dynamic viscosity at `t_k` (K), in Pa s: power law fitted
     /// over `t_min_k .. 400 K` (T clamped to `[1, 10 000] K`).
     pub fn mu_v_pa_s(&self, t_k: f64) -> f64 {
-        power_law(
-            self.mu_vapor_ref_pa_s,
-            self.vapor_t_ref_k,
-            self.mu_vapor_exp,
-            t_k,
+        self.vapor_transport(t_k).1
+    }
+
+    /// ([`Self::k_v_w_per_m_k`], [`Self::mu_v_pa_s`]) at `t_k` from one logarithm.
+    pub fn vapor_transport(&self, t_k: f64) -> (f64, f64) {
+        let l = power_law_log(self.vapor_t_ref_k, t_k);
+        (
+            power_law(self.k_vapor_ref_w_per_m_k, self.k_vapor_exp, l),
+            power_law(self.mu_vapor_ref_pa_s, self.mu_vapor_exp, l),
         )
     }
 }
@@ -575,12 +581,21 @@ impl GasProps {
     /// Thermal conductivity at `t_k` (K), in W/(m K): `k_ref (T/t_ref)^k_exp`, with T
     /// clamped to `[1, 10 000] K`.
     pub fn k_w_per_m_k(&self, t_k: f64) -> f64 {
-        power_law(self.k_ref_w_per_m_k, self.t_ref_k, self.k_exp, t_k)
+        self.transport(t_k).0
     }
 
     /// Dynamic viscosity at `t_k` (K), in Pa s: `mu_ref (T/t_ref)^mu_exp`, with T
     /// clamped to `[1, 10 000] K`.
     pub fn mu_pa_s(&self, t_k: f64) -> f64 {
-        power_law(self.mu_ref_pa_s, self.t_ref_k, self.mu_exp, t_k)
+        self.transport(t_k).1
+    }
+
+    /// ([`Self::k_w_per_m_k`], [`Self::mu_pa_s`]) at `t_k` from one logarithm.
+    pub fn transport(&self, t_k: f64) -> (f64, f64) {
+        let l = power_law_log(self.t_ref_k, t_k);
+        (
+            power_law(self.k_ref_w_per_m_k, self.k_exp, l),
+            power_law(self.mu_ref_pa_s, self.mu_exp, l),
+        )
     }
 }

@@ -86,9 +86,10 @@ pub(super) fn gas_props(p: &Params, s: &State, x: &Derived) -> ConvectionProps {
     let m = x.m_vapor_kg + s[M_G];
     let y = if m > 0.0 { x.m_vapor_kg / m } else { 1.0 };
     let t = x.t_ullage_k;
+    let ((k_v, mu_v), (k_g, mu_g)) = (f.vapor_transport(t), HELIUM.transport(t));
     ConvectionProps {
-        k: y * f.k_v_w_per_m_k(t) + (1.0 - y) * HELIUM.k_w_per_m_k(t),
-        mu: y * f.mu_v_pa_s(t) + (1.0 - y) * HELIUM.mu_pa_s(t),
+        k: y * k_v + (1.0 - y) * k_g,
+        mu: y * mu_v + (1.0 - y) * mu_g,
         rho: m / x.v_ullage_m3,
         cp: y * f.cp_vapor_j_per_kg_k + (1.0 - y) * HELIUM.cp_j_per_kg_k,
         beta: 1.0 / t,
