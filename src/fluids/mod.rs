@@ -315,22 +315,17 @@ impl FluidProps {
     /// continued linearly in `x` outside the range (strictly increasing, positive and
     /// finite for every finite input).
     pub fn psat_pa(&self, t_k: f64) -> f64 {
-        let (ln_p, _) = self.ln_psat_and_slope(t_k);
-        ln_p.clamp(-LN_P_LIMIT, LN_P_LIMIT).exp()
+        self.psat_and_slope(t_k).0
     }
 
     /// Analytic `dP_sat/dT` at `t_k` (K), in Pa/K; consistent with [`Self::psat_pa`]
     /// including the linear continuation outside the range.
     pub fn dpsat_dt_pa_per_k(&self, t_k: f64) -> f64 {
-        let (ln_p, slope) = self.ln_psat_and_slope(t_k);
-        if ln_p.abs() > LN_P_LIMIT {
-            return 0.0;
-        }
-        ln_p.exp() * slope / self.t_half()
+        self.psat_and_slope(t_k).1
     }
 
-    /// [`Self::psat_pa`] and [`Self::dpsat_dt_pa_per_k`] together (one polynomial pair, one
-    /// exponential), bit for bit equal to the two calls.
+    /// [`Self::psat_pa`] and [`Self::dpsat_dt_pa_per_k`] together, from one polynomial pair
+    /// and one exponential; the slope is 0 where the `±LN_P_LIMIT` limit is active.
     pub fn psat_and_slope(&self, t_k: f64) -> (f64, f64) {
         let (ln_p, slope) = self.ln_psat_and_slope(t_k);
         let p = ln_p.clamp(-LN_P_LIMIT, LN_P_LIMIT).exp();
@@ -436,7 +431,14 @@ impl FluidProps {
     /// `h_l` inside the range as a function of the normalised temperature.
     #[inline]
     fn h_l_of_x(&self, x: f64) -> f64 {
-        self.t_half() * (poly_integral(&self.cp_l, x) - poly_integral(&self.cp_l, -1.0))
+        self.h_l_above(x, poly_integral(&self.cp_l, -1.0))
+    }
+
+    /// [`Self::h_l_of_x`] given `base`, the `c_p,l` antiderivative at x = −1 (a constant that
+    /// the inversion evaluates once, not per Newton step).
+    #[inline]
+    fn h_l_above(&self, x: f64, base: f64) -> f64 {
+        self.t_half() * (poly_integral(&self.cp_l, x) - base)
     }
 
     /// Temperature (K) at which the liquid specific enthalpy is `h_j_per_kg` (J/kg):
@@ -452,10 +454,7 @@ impl FluidProps {
     /// The antiderivative of the `c_p,l` fit at x = −1 and `h_l(t_max_k)`, J/kg.
     fn h_l_limits(&self) -> (f64, f64) {
         let base = poly_integral(&self.cp_l, -1.0);
-        (
-            base,
-            self.t_half() * (poly_integral(&self.cp_l, 1.0) - base),
-        )
+        (base, self.h_l_above(1.0, base))
     }
 
     /// [`Self::t_from_h_l_k`] given [`Self::h_l_limits`], with the Newton iteration started at
@@ -476,12 +475,10 @@ impl FluidProps {
         if h_j_per_kg >= h_max {
             return self.t_max_k + (h_j_per_kg - h_max) / poly(&self.cp_l, 1.0);
         }
-        // h_l_of_x with the constant lower limit of the integral given.
-        let h_of_x = |x: f64| self.t_half() * (poly_integral(&self.cp_l, x) - base);
         let mut x = start(h_j_per_kg);
         let (mut lo, mut hi) = (-1.0_f64, 1.0_f64);
         for _ in 0..MAX_ITER {
-            let f = h_of_x(x) - h_j_per_kg;
+            let f = self.h_l_above(x, base) - h_j_per_kg;
             if f == 0.0 {
                 break;
             }
