@@ -11,6 +11,7 @@ pub mod fluids;
 pub mod geometry;
 pub mod gpu;
 pub mod history;
+pub mod lanes;
 pub mod model;
 pub mod montecarlo;
 pub mod output;

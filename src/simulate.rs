@@ -2,11 +2,12 @@
 //! (MODEL.md §11), divergence detection and an optional sampled time history.
 
 use crate::campaign::Campaign;
+use crate::lanes::{Lanes, Mask, Real};
 use crate::model::derive::{slosh_angle, Derived, Drive};
-use crate::model::flight::G0;
+use crate::model::flight::{Phase, G0};
 use crate::model::params::{Fidelity, Params};
-use crate::model::state::*;
-use crate::model::{self, Evaluation};
+use crate::model::state::{self, *};
+use crate::model::{self, Evaluation, Group};
 
 /// Quantities of interest of one instance (MODEL.md §11).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -198,13 +199,22 @@ fn check_state(p: &Params, s: &State, x: &Derived) -> Option<String> {
     None
 }
 
-/// Everything the step loop tracks besides the state.
+/// Running extremes of one instance (MODEL.md §11), updated after every step.
 struct Tracker {
     summary: Summary,
-    s0: State,
 }
 
 impl Tracker {
+    fn new() -> Tracker {
+        Tracker {
+            summary: Summary {
+                peak_pressure_pa: f64::NEG_INFINITY,
+                min_pressure_pa: f64::INFINITY,
+                ..Default::default()
+            },
+        }
+    }
+
     fn observe(&mut self, p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) {
         let x = &ev.derived;
         let q = &mut self.summary;
@@ -225,18 +235,13 @@ impl Tracker {
                 q.min_cavitation_margin_time_s = Some(t);
             }
         }
-        let angle = slosh_angle(p, s, &x.slosh).abs();
+        let angle = slosh_angle(Group::one(p), s, &x.slosh).abs();
         q.max_slosh_angle_rad = q.max_slosh_angle_rad.max(angle);
         let force = ev.fluxes.slosh_force_n.abs();
         q.peak_slosh_force_n = q.peak_slosh_force_n.max(force);
         q.peak_slosh_moment_n_m = q
             .peak_slosh_moment_n_m
             .max(force * p.vehicle.slosh_lever_arm_m.abs());
-    }
-
-    fn finish(self, p: &Params, t: f64, s: &State, x: &Derived, steps: u64) -> Summary {
-        let m_vapor0 = initial_vapor_mass(p, &self.s0);
-        finish_summary(self.summary, p, &self.s0, m_vapor0, t, s, x, steps)
     }
 }
 
@@ -279,7 +284,9 @@ pub fn finish_summary(
 /// Vapour mass of the initial state (homogeneous keeps it implicit in the equilibrium).
 pub fn initial_vapor_mass(p: &Params, s0: &State) -> f64 {
     match p.fidelity {
-        Fidelity::Homogeneous => model::derive::derive(p, s0, &Drive::default()).m_vapor_kg,
+        Fidelity::Homogeneous => {
+            model::derive::derive(Group::one(p), s0, &Drive::default()).m_vapor_kg
+        }
         _ => s0[M_V],
     }
 }
@@ -293,7 +300,7 @@ pub fn initial_state(c: &Campaign, p: &Params) -> State {
         Fidelity::Lumped => s[Q1] = th,
         Fidelity::TwoMode => {
             let d = Drive::of_phase(&c.phases[0], 0.0, false);
-            let x = model::derive::derive(p, &s, &d);
+            let x = model::derive::derive(Group::one(p), &s, &d);
             s[Q1] = x.slosh.length_m[0] * th.tan();
         }
     }
@@ -307,7 +314,7 @@ fn row(p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) -> [f64; HISTO
     let wall_share = x.wetted_share;
     let (q1, q1d, q2) = match p.fidelity {
         Fidelity::TwoMode => (
-            slosh_angle(p, s, &x.slosh),
+            slosh_angle(Group::one(p), s, &x.slosh),
             s[Q1D] / x.slosh.length_m[0],
             s[Q2],
         ),
@@ -356,64 +363,207 @@ fn row(p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) -> [f64; HISTO
     ]
 }
 
-/// Integrate one instance with parameters `p` over the campaign's phases. With `history`,
-/// rows are recorded every `output_interval_s` and at every phase end.
-pub fn simulate(c: &Campaign, p: &Params, mut history: Option<&mut History>) -> Summary {
-    let mut s = initial_state(c, p);
-    let mut valve = false;
-    let d0 = Drive::of_phase(&c.phases[0], 0.0, valve);
-    let ev0 = model::evaluate(p, &s, &d0, c.phases[0].dt_s);
-    let mut tr = Tracker {
-        summary: Summary {
-            peak_pressure_pa: f64::NEG_INFINITY,
-            min_pressure_pa: f64::INFINITY,
-            ..Default::default()
-        },
-        s0: s,
-    };
-    tr.observe(p, 0.0, &s, &ev0, &d0);
-    if let Some(h) = history.as_deref_mut() {
-        h.push(row(p, 0.0, &s, &ev0, &d0), &c.phases[0].name, valve);
-    }
-    let mut t = 0.0;
-    let mut steps = 0u64;
-    let mut next_sample = c.output_interval_s;
-    let mut last = ev0;
-    'phases: for phase in &c.phases {
-        let (n, dt) = phase.steps();
-        // The derivative evaluated for the QoIs after a step is the next step's k1 when the
-        // valve did not switch and the phase goes on: reuse it (bit-identical, one RHS less).
-        let mut next_k1: Option<State> = None;
-        for k in 0..n {
-            let tp = k as f64 * dt;
-            model::rk4_step(p, phase, &mut s, tp, dt, valve, next_k1.as_ref());
-            steps += 1;
-            t += dt;
-            let d = Drive::of_phase(phase, (k + 1) as f64 * dt, valve);
-            let ev = model::evaluate(p, &s, &d, dt);
-            if let Some(reason) = check_state(p, &s, &ev.derived) {
-                tr.summary.diverged = true;
-                tr.summary.diverged_reason =
-                    Some(format!("{reason} at t = {t:.3} s in phase {}", phase.name));
-                break 'phases;
-            }
-            tr.observe(p, t, &s, &ev, &d);
-            let valve_before = valve;
-            valve = model::update_valve(p, ev.derived.p_ullage_pa, valve);
-            let phase_end = k + 1 == n;
-            next_k1 = (valve == valve_before && !phase_end).then_some(ev.rates);
-            if let Some(h) = history.as_deref_mut() {
-                if t >= next_sample - 1.0e-9 * c.output_interval_s || phase_end {
-                    h.push(row(p, t, &s, &ev, &d), &phase.name, valve);
-                    while next_sample <= t + 1.0e-9 * c.output_interval_s {
-                        next_sample += c.output_interval_s;
-                    }
-                }
-            }
-            last = ev;
+/// Where one instance of a lane group is in its phase list, and what it has seen.
+struct LaneRun<'a> {
+    campaign: &'a Campaign,
+    params: &'a Params,
+    s0: State,
+    /// Index of the current phase; the last phase once done.
+    phase: usize,
+    /// Steps taken in the current phase, its step count and step length.
+    k: u64,
+    n: u64,
+    dt: f64,
+    t: f64,
+    steps: u64,
+    valve: bool,
+    /// The group's post-step derivative may serve as this lane's next k1 (valve unchanged,
+    /// phase going on): RK4 would evaluate exactly the same one.
+    reuse: bool,
+    done: bool,
+    tracker: Tracker,
+    /// The last state that passed the checks, its evaluation, and the final state.
+    last_state: State,
+    last: Evaluation,
+    end_state: State,
+    next_sample: f64,
+}
+
+impl<'a> LaneRun<'a> {
+    /// The instance at t = 0, observed once.
+    fn start(c: &'a Campaign, p: &'a Params) -> LaneRun<'a> {
+        let s0 = initial_state(c, p);
+        let d0 = Drive::of_phase(&c.phases[0], 0.0, false);
+        let ev0 = model::evaluate(Group::one(p), &s0, &d0, c.phases[0].dt_s);
+        let mut tracker = Tracker::new();
+        tracker.observe(p, 0.0, &s0, &ev0, &d0);
+        let (n, dt) = c.phases[0].steps();
+        LaneRun {
+            campaign: c,
+            params: p,
+            s0,
+            phase: 0,
+            k: 0,
+            n,
+            dt,
+            t: 0.0,
+            steps: 0,
+            valve: false,
+            reuse: false,
+            done: false,
+            tracker,
+            last_state: s0,
+            last: ev0,
+            end_state: s0,
+            next_sample: c.output_interval_s,
         }
     }
-    tr.finish(p, t, &s, &last.derived, steps)
+
+    fn phase(&self) -> &'a Phase {
+        &self.campaign.phases[self.phase]
+    }
+
+    /// The trajectory of this lane at time `t` of its current phase.
+    fn drive(&self, t: f64) -> Drive {
+        Drive::of_phase(self.phase(), t, self.valve)
+    }
+
+    /// Book-keeping after a step to state `s` with evaluation `ev` under drive `d`: divergence,
+    /// extremes, valve, phase change, history. Returns false when the instance diverged.
+    fn after_step(
+        &mut self,
+        s: &State,
+        ev: &Evaluation,
+        d: &Drive,
+        history: Option<&mut History>,
+    ) -> bool {
+        let p = self.params;
+        self.steps += 1;
+        self.t += self.dt;
+        let t = self.t;
+        if let Some(reason) = check_state(p, s, &ev.derived) {
+            let name = &self.phase().name;
+            let q = &mut self.tracker.summary;
+            q.diverged = true;
+            q.diverged_reason = Some(format!("{reason} at t = {t:.3} s in phase {name}"));
+            self.end_state = *s;
+            self.done = true;
+            return false;
+        }
+        self.tracker.observe(p, t, s, ev, d);
+        let before = self.valve;
+        self.valve = model::update_valve(Group::one(p), ev.derived.p_ullage_pa, self.valve);
+        let phase_end = self.k + 1 == self.n;
+        self.reuse = self.valve == before && !phase_end;
+        if let Some(h) = history {
+            let interval = self.campaign.output_interval_s;
+            if t >= self.next_sample - 1.0e-9 * interval || phase_end {
+                h.push(row(p, t, s, ev, d), &self.phase().name, self.valve);
+                while self.next_sample <= t + 1.0e-9 * interval {
+                    self.next_sample += interval;
+                }
+            }
+        }
+        self.last_state = *s;
+        self.last = *ev;
+        self.end_state = *s;
+        self.k += 1;
+        if phase_end {
+            if self.phase + 1 == self.campaign.phases.len() {
+                self.done = true;
+            } else {
+                self.phase += 1;
+                (self.k, (self.n, self.dt)) = (0, self.phase().steps());
+            }
+        }
+        true
+    }
+
+    fn finish(self) -> Summary {
+        let p = self.params;
+        let m_vapor0 = initial_vapor_mass(p, &self.s0);
+        let q = self.tracker.summary;
+        finish_summary(
+            q,
+            p,
+            &self.s0,
+            m_vapor0,
+            self.t,
+            &self.end_state,
+            &self.last.derived,
+            self.steps,
+        )
+    }
+}
+
+/// Integrate the lane group `members` (one per lane of `T`, mutually
+/// [`Params::lane_compatible`]) in lockstep over their phase lists; history rows of the first
+/// lane go to `history`. Lanes may differ in phase durations and steps: each advances through
+/// its own phases, and a finished or diverged lane is frozen until the last one ends.
+fn integrate<T: Real>(
+    members: &[(&Campaign, &Params)],
+    mut history: Option<&mut History>,
+) -> Vec<Summary> {
+    assert_eq!(members.len(), T::LANES, "one member per lane");
+    let params: Vec<Params> = members.iter().map(|m| *m.1).collect();
+    let g = Group::of(&params);
+    let mut lanes: Vec<LaneRun> = members.iter().map(|&(c, p)| LaneRun::start(c, p)).collect();
+    if let Some(h) = history.as_deref_mut() {
+        let l = &lanes[0];
+        h.push(
+            row(l.params, 0.0, &l.s0, &l.last, &l.drive(0.0)),
+            &l.phase().name,
+            false,
+        );
+    }
+    let mut s: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].s0[j]));
+    let mut k1: Option<State<T>> = None;
+    while lanes.iter().any(|l| !l.done) {
+        let dt = T::from_fn(|i| lanes[i].dt);
+        let tp = T::from_fn(|i| lanes[i].k as f64) * dt;
+        let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
+        let reuse = lanes.iter().all(|l| l.done || l.reuse);
+        let mut next = s;
+        model::rk4_step(g, drive, &mut next, tp, dt, k1.as_ref().filter(|_| reuse));
+        let d: Drive<T> = Drive::gather(|i| lanes[i].drive((lanes[i].k + 1) as f64 * lanes[i].dt));
+        let active = T::Mask::from_fn(|i| !lanes[i].done);
+        for (sj, nj) in s.iter_mut().zip(next) {
+            *sj = T::select(active, nj, *sj);
+        }
+        let ev = model::evaluate(g, &s, &d, dt);
+        let mut diverged = T::Mask::splat(false);
+        for (i, l) in lanes.iter_mut().enumerate() {
+            if l.done {
+                continue;
+            }
+            let h = if i == 0 { history.as_deref_mut() } else { None };
+            if !l.after_step(&state::lane(&s, i), &ev.lane(i), &d.lane(i), h) {
+                diverged = diverged | T::Mask::from_fn(|j| j == i);
+            }
+        }
+        if diverged.any() {
+            // A diverged lane goes on from its last good state, so that no NaN slows the others.
+            let good: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].last_state[j]));
+            for (sj, gj) in s.iter_mut().zip(good) {
+                *sj = T::select(diverged, gj, *sj);
+            }
+        }
+        k1 = Some(ev.rates);
+    }
+    lanes.into_iter().map(LaneRun::finish).collect()
+}
+
+/// Integrate one instance with parameters `p` over the campaign's phases. With `history`,
+/// rows are recorded every `output_interval_s` and at every phase end.
+pub fn simulate(c: &Campaign, p: &Params, history: Option<&mut History>) -> Summary {
+    integrate::<f64>(&[(c, p)], history).remove(0)
+}
+
+/// Integrate [`crate::lanes::WIDTH`] instances in lockstep [`Lanes`]: the summaries equal those of
+/// [`simulate`] on each instance, bit for bit. The members must be mutually
+/// [`Params::lane_compatible`].
+pub fn simulate_lanes(members: &[(&Campaign, &Params)]) -> Vec<Summary> {
+    integrate::<Lanes>(members, None)
 }
 
 /// A short summary a designer reads at a glance.

@@ -11,7 +11,11 @@ pub fn describe(c: &Campaign) -> String {
     let f = p.fluid.props();
     let mut o = String::new();
     let s0 = initial_state(p);
-    let x = derive(p, &s0, &Drive::of_phase(&c.phases[0], 0.0, false));
+    let x = derive(
+        crate::model::Group::one(p),
+        &s0,
+        &Drive::of_phase(&c.phases[0], 0.0, false),
+    );
     let _ = writeln!(
         o,
         "campaign {} ({}), fidelity {}",

@@ -1,6 +1,8 @@
-//! CPU backend: rayon over instances on a pool of a fixed size.
+//! CPU backend: rayon over lane groups of [`WIDTH`] instances on a pool of a fixed size; each
+//! group is integrated in lockstep SIMD lanes (`simulate::simulate_lanes`).
 
 use super::Engine;
+use crate::lanes::WIDTH;
 use crate::montecarlo::plan::{InstanceRecord, Plan};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -37,10 +39,15 @@ impl Engine for CpuEngine {
     }
 
     fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
+        let width = WIDTH as u64;
+        let groups = (range.end - range.start).div_ceil(width);
         Ok(self.pool.install(|| {
-            range
+            (0..groups)
                 .into_par_iter()
-                .map(|i| plan.run_instance(i))
+                .flat_map_iter(|k| {
+                    let start = range.start + k * width;
+                    plan.run_lanes(start..(start + width).min(range.end))
+                })
                 .collect()
         }))
     }

@@ -85,6 +85,8 @@
 mod inverse;
 pub mod table;
 
+use crate::lanes::Real;
+
 pub use table::HELIUM;
 
 /// Universal gas constant R_u in J/(mol K) (CODATA 2018, exact).
@@ -140,11 +142,12 @@ impl Fluid {
 
     /// [`FluidProps::t_from_h_l_k`] of this propellant (the same root to rounding), with the
     /// Newton iteration started from the propellant's inverse table: one step, two near t_min_k.
-    pub fn t_from_h_l_k(self, h_j_per_kg: f64) -> f64 {
+    /// Lane by lane: the Newton exits differ per lane.
+    pub fn t_from_h_l_k<T: Real>(self, h_j_per_kg: T) -> T {
         let table = inverse::hl_inverse(self);
         let (base, h_max) = table.limits();
-        self.props()
-            .invert_h_l(h_j_per_kg, base, h_max, |h| table.guess(h))
+        let f = self.props();
+        h_j_per_kg.map(|h| f.invert_h_l(h, base, h_max, |h| table.guess(h)))
     }
 
     /// The constants and fit coefficients of this propellant (from [`table`]).
@@ -211,18 +214,18 @@ pub struct FluidProps {
 
 /// Horner evaluation of `Σ c_i x^i`.
 #[inline]
-pub(crate) fn poly(c: &[f64; NCOEF], x: f64) -> f64 {
-    c.iter().rev().fold(0.0, |acc, &a| acc * x + a)
+pub(crate) fn poly<T: Real>(c: &[f64; NCOEF], x: T) -> T {
+    c.iter().rev().fold(T::splat(0.0), |acc, &a| acc * x + a)
 }
 
 /// Horner evaluation of the derivative `Σ i c_i x^(i−1)`.
 #[inline]
-pub(crate) fn poly_deriv(c: &[f64; NCOEF], x: f64) -> f64 {
+pub(crate) fn poly_deriv<T: Real>(c: &[f64; NCOEF], x: T) -> T {
     c.iter()
         .enumerate()
         .skip(1)
         .rev()
-        .fold(0.0, |acc, (i, &a)| acc * x + i as f64 * a)
+        .fold(T::splat(0.0), |acc, (i, &a)| acc * x + i as f64 * a)
 }
 
 /// `1 / (i + 1)`: the antiderivative's divisors as factors (a multiply, not a divide, per term).
@@ -239,24 +242,24 @@ const RECIPROCALS: [f64; NCOEF] = [
 
 /// Horner evaluation of the antiderivative `Σ c_i x^(i+1) / (i+1)` (zero at x = 0).
 #[inline]
-fn poly_integral(c: &[f64; NCOEF], x: f64) -> f64 {
+fn poly_integral<T: Real>(c: &[f64; NCOEF], x: T) -> T {
     (0..NCOEF)
         .rev()
-        .fold(0.0, |acc, i| acc * x + c[i] * RECIPROCALS[i])
+        .fold(T::splat(0.0), |acc, i| acc * x + c[i] * RECIPROCALS[i])
         * x
 }
 
 /// `ln(T / t_ref)` with T clamped to the power-law range: one logarithm serves every law with
 /// that reference temperature.
 #[inline]
-fn power_law_log(t_ref: f64, t_k: f64) -> f64 {
-    (t_k.clamp(POWER_LAW_T_MIN_K, POWER_LAW_T_MAX_K) / t_ref).ln()
+fn power_law_log<T: Real>(t_ref: f64, t_k: T) -> T {
+    (t_k.clamp_c(POWER_LAW_T_MIN_K, POWER_LAW_T_MAX_K) / t_ref).ln()
 }
 
 /// `y_ref (T / t_ref)^n` from `ln(T / t_ref)` ([`power_law_log`]).
 #[inline]
-fn power_law(y_ref: f64, n: f64, log_ratio: f64) -> f64 {
-    y_ref * (n * log_ratio).exp()
+fn power_law<T: Real>(y_ref: f64, n: f64, log_ratio: T) -> T {
+    (log_ratio * n).exp() * y_ref
 }
 
 impl FluidProps {
@@ -274,14 +277,14 @@ impl FluidProps {
 
     /// Normalised temperature, unclamped.
     #[inline]
-    fn x_of(&self, t_k: f64) -> f64 {
+    fn x_of<T: Real>(&self, t_k: T) -> T {
         (t_k - self.t_mid()) / self.t_half()
     }
 
     /// Normalised temperature clamped to `[−1, 1]`.
     #[inline]
-    fn x_clamped(&self, t_k: f64) -> f64 {
-        self.x_of(t_k).clamp(-1.0, 1.0)
+    fn x_clamped<T: Real>(&self, t_k: T) -> T {
+        self.x_of(t_k).clamp_c(-1.0, 1.0)
     }
 
     /// Temperature from a normalised temperature, K.
@@ -291,19 +294,14 @@ impl FluidProps {
     }
 
     /// `(ln P_sat, d ln P_sat / dx)` with linear continuation outside `[−1, 1]`,
-    /// before the `±LN_P_LIMIT` limit.
+    /// before the `±LN_P_LIMIT` limit: the polynomial at the clamped x plus its slope times
+    /// the distance beyond the end (zero inside).
     #[inline]
-    fn ln_psat_and_slope(&self, t_k: f64) -> (f64, f64) {
+    fn ln_psat_and_slope<T: Real>(&self, t_k: T) -> (T, T) {
         let x = self.x_of(t_k);
-        if x < -1.0 {
-            let s = poly_deriv(&self.ln_psat, -1.0);
-            (poly(&self.ln_psat, -1.0) + s * (x + 1.0), s)
-        } else if x > 1.0 {
-            let s = poly_deriv(&self.ln_psat, 1.0);
-            (poly(&self.ln_psat, 1.0) + s * (x - 1.0), s)
-        } else {
-            (poly(&self.ln_psat, x), poly_deriv(&self.ln_psat, x))
-        }
+        let xc = x.clamp_c(-1.0, 1.0);
+        let s = poly_deriv(&self.ln_psat, xc);
+        (poly(&self.ln_psat, xc) + s * (x - xc), s)
     }
 
     /// Specific gas constant `R_u / M` of the propellant vapour, J/(kg K).
@@ -314,25 +312,26 @@ impl FluidProps {
     /// Saturation pressure at `t_k` (K), in Pa: `exp` of the `ln_psat` polynomial,
     /// continued linearly in `x` outside the range (strictly increasing, positive and
     /// finite for every finite input).
-    pub fn psat_pa(&self, t_k: f64) -> f64 {
+    pub fn psat_pa<T: Real>(&self, t_k: T) -> T {
         self.psat_and_slope(t_k).0
     }
 
     /// Analytic `dP_sat/dT` at `t_k` (K), in Pa/K; consistent with [`Self::psat_pa`]
     /// including the linear continuation outside the range.
-    pub fn dpsat_dt_pa_per_k(&self, t_k: f64) -> f64 {
+    pub fn dpsat_dt_pa_per_k<T: Real>(&self, t_k: T) -> T {
         self.psat_and_slope(t_k).1
     }
 
     /// [`Self::psat_pa`] and [`Self::dpsat_dt_pa_per_k`] together, from one polynomial pair
     /// and one exponential; the slope is 0 where the `±LN_P_LIMIT` limit is active.
-    pub fn psat_and_slope(&self, t_k: f64) -> (f64, f64) {
+    pub fn psat_and_slope<T: Real>(&self, t_k: T) -> (T, T) {
         let (ln_p, slope) = self.ln_psat_and_slope(t_k);
-        let p = ln_p.clamp(-LN_P_LIMIT, LN_P_LIMIT).exp();
-        if ln_p.abs() > LN_P_LIMIT {
-            return (p, 0.0);
-        }
-        (p, p * slope / self.t_half())
+        let p = ln_p.clamp_c(-LN_P_LIMIT, LN_P_LIMIT).exp();
+        let limited = ln_p.abs().gt(T::splat(LN_P_LIMIT));
+        (
+            p,
+            T::select(limited, T::splat(0.0), p * slope / self.t_half()),
+        )
     }
 
     /// Saturation temperature at pressure `p_pa` (Pa), in K: inverse of
@@ -392,53 +391,43 @@ impl FluidProps {
     }
 
     /// Saturated-liquid density at `t_k` (K), in kg/m³ (clamped outside the range).
-    pub fn rho_l_kg_per_m3(&self, t_k: f64) -> f64 {
+    pub fn rho_l_kg_per_m3<T: Real>(&self, t_k: T) -> T {
         poly(&self.rho_l, self.x_clamped(t_k))
     }
 
     /// Analytic `dρ_l/dT` at `t_k` (K), in kg/(m³ K); 0 outside the range, where
     /// [`Self::rho_l_kg_per_m3`] is clamped.
-    pub fn drho_l_dt(&self, t_k: f64) -> f64 {
+    pub fn drho_l_dt<T: Real>(&self, t_k: T) -> T {
         let x = self.x_of(t_k);
-        if x.is_nan() {
-            return f64::NAN;
-        }
-        if !(-1.0..=1.0).contains(&x) {
-            return 0.0;
-        }
-        poly_deriv(&self.rho_l, x) / self.t_half()
+        let outside = x.abs().gt(T::splat(1.0));
+        let inside = poly_deriv(&self.rho_l, x.clamp_c(-1.0, 1.0)) / self.t_half();
+        T::select(outside, T::splat(0.0), inside)
     }
 
     /// Saturated-liquid isobaric specific heat at `t_k` (K), in J/(kg K) (clamped
     /// outside the range).
-    pub fn cp_l_j_per_kg_k(&self, t_k: f64) -> f64 {
+    pub fn cp_l_j_per_kg_k<T: Real>(&self, t_k: T) -> T {
         poly(&self.cp_l, self.x_clamped(t_k))
     }
 
     /// Liquid specific enthalpy at `t_k` (K), in J/kg, relative to 0 at `t_min_k`:
     /// the exact integral of [`Self::cp_l_j_per_kg_k`] (continued linearly with the
     /// end-point `c_p` outside the range), so `dh_l/dT == c_p,l` everywhere.
-    pub fn h_l_j_per_kg(&self, t_k: f64) -> f64 {
-        if t_k <= self.t_min_k {
-            poly(&self.cp_l, -1.0) * (t_k - self.t_min_k)
-        } else if t_k >= self.t_max_k {
-            self.h_l_of_x(1.0) + poly(&self.cp_l, 1.0) * (t_k - self.t_max_k)
-        } else {
-            self.h_l_of_x(self.x_clamped(t_k))
-        }
+    pub fn h_l_j_per_kg<T: Real>(&self, t_k: T) -> T {
+        let (base, h_max) = self.h_l_limits();
+        let below = (t_k - self.t_min_k) * poly(&self.cp_l, -1.0);
+        let above = (t_k - self.t_max_k) * poly(&self.cp_l, 1.0) + h_max;
+        let inside = self.h_l_above(self.x_clamped(t_k), base);
+        let h = T::select(t_k.ge(T::splat(self.t_max_k)), above, inside);
+        T::select(t_k.le(T::splat(self.t_min_k)), below, h)
     }
 
-    /// `h_l` inside the range as a function of the normalised temperature.
+    /// `h_l` inside the range as a function of the normalised temperature `x`, given `base`,
+    /// the `c_p,l` antiderivative at x = −1 (a constant that the inversion evaluates once, not
+    /// per Newton step).
     #[inline]
-    fn h_l_of_x(&self, x: f64) -> f64 {
-        self.h_l_above(x, poly_integral(&self.cp_l, -1.0))
-    }
-
-    /// [`Self::h_l_of_x`] given `base`, the `c_p,l` antiderivative at x = −1 (a constant that
-    /// the inversion evaluates once, not per Newton step).
-    #[inline]
-    fn h_l_above(&self, x: f64, base: f64) -> f64 {
-        self.t_half() * (poly_integral(&self.cp_l, x) - base)
+    fn h_l_above<T: Real>(&self, x: T, base: f64) -> T {
+        (poly_integral(&self.cp_l, x) - base) * self.t_half()
     }
 
     /// Temperature (K) at which the liquid specific enthalpy is `h_j_per_kg` (J/kg):
@@ -506,19 +495,19 @@ impl FluidProps {
     }
 
     /// Latent heat of vaporisation at `t_k` (K), in J/kg (clamped outside the range).
-    pub fn h_fg_j_per_kg(&self, t_k: f64) -> f64 {
+    pub fn h_fg_j_per_kg<T: Real>(&self, t_k: T) -> T {
         poly(&self.h_fg, self.x_clamped(t_k))
     }
 
     /// Saturated-liquid thermal conductivity at `t_k` (K), in W/(m K) (clamped
     /// outside the range).
-    pub fn k_l_w_per_m_k(&self, t_k: f64) -> f64 {
+    pub fn k_l_w_per_m_k<T: Real>(&self, t_k: T) -> T {
         poly(&self.k_l, self.x_clamped(t_k))
     }
 
     /// Saturated-liquid dynamic viscosity at `t_k` (K), in Pa s (clamped outside the
     /// range).
-    pub fn mu_l_pa_s(&self, t_k: f64) -> f64 {
+    pub fn mu_l_pa_s<T: Real>(&self, t_k: T) -> T {
         poly(&self.ln_mu_l, self.x_clamped(t_k)).exp()
     }
 
@@ -535,7 +524,7 @@ impl FluidProps {
     }
 
     /// ([`Self::k_v_w_per_m_k`], [`Self::mu_v_pa_s`]) at `t_k` from one logarithm.
-    pub fn vapor_transport(&self, t_k: f64) -> (f64, f64) {
+    pub fn vapor_transport<T: Real>(&self, t_k: T) -> (T, T) {
         let l = power_law_log(self.vapor_t_ref_k, t_k);
         (
             power_law(self.k_vapor_ref_w_per_m_k, self.k_vapor_exp, l),
@@ -588,7 +577,7 @@ impl GasProps {
     }
 
     /// ([`Self::k_w_per_m_k`], [`Self::mu_pa_s`]) at `t_k` from one logarithm.
-    pub fn transport(&self, t_k: f64) -> (f64, f64) {
+    pub fn transport<T: Real>(&self, t_k: T) -> (T, T) {
         let l = power_law_log(self.t_ref_k, t_k);
         (
             power_law(self.k_ref_w_per_m_k, self.k_exp, l),

@@ -3,87 +3,118 @@
 
 use super::derive::{Derived, Drive};
 use super::flight::{self, G0};
-use super::params::{Fidelity, Params};
+use super::params::Fidelity;
 use super::state::*;
 use super::thermal;
+use super::Group;
 use crate::fluids::HELIUM;
+use crate::lanes::{c, Mask, Real};
 
 /// Flows through the tank boundary at one instant, kg/s.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct BoundaryFlows {
+pub struct BoundaryFlows<T = f64> {
     /// Helium admitted.
-    pub press_kg_s: f64,
+    pub press_kg_s: T,
     /// Ullage mixture vented.
-    pub vent_kg_s: f64,
+    pub vent_kg_s: T,
     /// Vapour mass fraction of the ullage (and of the vented gas).
-    pub y_vapor: f64,
+    pub y_vapor: T,
     /// Engine draw from this tank.
-    pub out_kg_s: f64,
+    pub out_kg_s: T,
 }
 
-/// Helium PD flow, relief flow and engine draw.
-pub fn boundary_flows(p: &Params, s: &State, d: &Drive, x: &Derived) -> BoundaryFlows {
-    let f = p.fluid.props();
+impl<T: Real> BoundaryFlows<T> {
+    /// Lane `i`.
+    pub fn lane(&self, i: usize) -> BoundaryFlows {
+        BoundaryFlows {
+            press_kg_s: self.press_kg_s.lane(i),
+            vent_kg_s: self.vent_kg_s.lane(i),
+            y_vapor: self.y_vapor.lane(i),
+            out_kg_s: self.out_kg_s.lane(i),
+        }
+    }
+}
+
+/// Helium PD flow, relief flow and engine draw. Each is evaluated only when some lane needs
+/// it and applies in the lanes that do.
+pub fn boundary_flows<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    d: &Drive<T>,
+    x: &Derived<T>,
+) -> BoundaryFlows<T> {
+    let f = g.shared().fluid.props();
     let m_u = s[M_V] + s[M_G];
-    let y_v = if m_u > 0.0 { s[M_V] / m_u } else { 1.0 };
+    let y_v = T::select(m_u.gt(c(0.0)), s[M_V] / m_u, c(1.0));
     let mut b = BoundaryFlows {
         y_vapor: y_v,
         ..Default::default()
     };
-    if let Some(ps) = p.pressurization.filter(|_| d.pressurize) {
-        let e = ps.setpoint_pa - x.p_ullage_pa;
-        let e_dot = -(x.p_ullage_pa - s[P_FILT]) / ps.derivative_filter_s;
-        let demand =
-            (ps.kp_kg_per_s_pa * e + ps.kd_kg_per_pa * e_dot).clamp(0.0, ps.max_flow_kg_per_s);
+    if g.shared().pressurization.is_some() && d.pressurize.any() {
+        let ps = |h: fn(&super::params::Pressurization) -> f64| {
+            g.get::<T>(move |p| p.pressurization.as_ref().map_or(0.0, h))
+        };
+        let (setpoint, tau) = (ps(|q| q.setpoint_pa), ps(|q| q.derivative_filter_s));
+        let (kp, kd) = (ps(|q| q.kp_kg_per_s_pa), ps(|q| q.kd_kg_per_pa));
+        let (max_flow, bottle) = (ps(|q| q.max_flow_kg_per_s), ps(|q| q.bottle_mass_kg));
+        let e = setpoint - x.p_ullage_pa;
+        let e_dot = -(x.p_ullage_pa - s[P_FILT]) / tau;
+        let demand = (kp * e + kd * e_dot).max_c(0.0).min(max_flow);
         // The flow fades to zero over the last 0.1 % of the bottle instead of stopping abruptly.
-        let left = ps.bottle_mass_kg - s[PRESS_IN];
-        let fade = (left / (1.0e-3 * ps.bottle_mass_kg + 1.0e-9)).clamp(0.0, 1.0);
-        b.press_kg_s = demand * fade;
+        let left = bottle - s[PRESS_IN];
+        let fade = (left / (bottle * 1.0e-3 + 1.0e-9)).clamp_c(0.0, 1.0);
+        b.press_kg_s = T::select(d.pressurize, demand * fade, c(0.0));
     }
-    if let Some(r) = p.relief.filter(|_| d.valve_open) {
+    if g.shared().relief.is_some() && d.valve_open.any() {
         let rv = f.r_specific_j_per_kg_k();
         let rg = HELIUM.r_specific_j_per_kg_k();
-        let r_mix = y_v * rv + (1.0 - y_v) * rg;
-        let cp = y_v * f.cp_vapor_j_per_kg_k + (1.0 - y_v) * HELIUM.cp_j_per_kg_k;
-        let cv = y_v * f.cv_vapor_j_per_kg_k + (1.0 - y_v) * HELIUM.cv_j_per_kg_k;
+        let vapour = y_v.rsub(1.0);
+        let r_mix = y_v * rv + vapour * rg;
+        let cp = y_v * f.cp_vapor_j_per_kg_k + vapour * HELIUM.cp_j_per_kg_k;
+        let cv = y_v * f.cv_vapor_j_per_kg_k + vapour * HELIUM.cv_j_per_kg_k;
         let back = flight::ambient_pressure(s[ALT]);
-        b.vent_kg_s = thermal::orifice_flow(
-            r.flow_area_m2,
-            x.p_ullage_pa,
-            back,
-            x.t_ullage_k,
-            r_mix,
-            cp / cv,
-        );
+        let area: T = g.get(|p| p.relief.map_or(0.0, |r| r.flow_area_m2));
+        let vent = thermal::orifice_flow(area, x.p_ullage_pa, back, x.t_ullage_k, r_mix, cp / cv);
+        b.vent_kg_s = T::select(d.valve_open, vent, c(0.0));
     }
-    if d.burning {
-        let engine = d.thrust_n / (p.feed.isp_s * G0);
+    if d.burning.any() {
+        let isp: T = g.get(|p| p.feed.isp_s);
+        let frac: T = g.get(|p| p.feed.propellant_fraction);
+        let engine = d.thrust_n / (isp * G0);
         // Starve smoothly over the last gram-scale sliver rather than drawing a negative mass.
-        let avail = (x.m_liquid_kg / (1.0e-6 * x.m_liquid_kg.max(1.0) + 1.0e-3)).clamp(0.0, 1.0);
-        b.out_kg_s = engine * p.feed.propellant_fraction * avail;
+        let m_l = x.m_liquid_kg;
+        let avail = (m_l / (m_l.max_c(1.0) * 1.0e-6 + 1.0e-3)).clamp_c(0.0, 1.0);
+        b.out_kg_s = T::select(d.burning, engine * frac * avail, c(0.0));
     }
     b
 }
 
 /// Slosh and flight derivatives into `ds`; returns the lateral slosh force on the tank, N.
-pub fn motion_rates(p: &Params, s: &State, d: &Drive, x: &Derived, ds: &mut State) -> f64 {
+pub fn motion_rates<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    d: &Drive<T>,
+    x: &Derived<T>,
+    ds: &mut State<T>,
+) -> T {
     let sl = &x.slosh;
-    let force = match p.fidelity {
-        Fidelity::Homogeneous => 0.0,
+    let force = match g.shared().fidelity {
+        Fidelity::Homogeneous => c(0.0),
         Fidelity::Lumped => {
             let (th, w) = (s[Q1], s[Q1D]);
             let (l, om, ze) = (sl.length_m[0], sl.omega[0], sl.zeta[0]);
-            let acc = -(x.a_ax / l) * th.sin() - 2.0 * ze * om * w - (d.a_lat / l) * th.cos();
+            let (sin, cos) = (th.map(f64::sin), th.map(f64::cos));
+            let acc = -(x.a_ax / l) * sin - ze * 2.0 * om * w - (d.a_lat / l) * cos;
             ds[Q1] = w;
             ds[Q1D] = acc;
             // Force of the pendulum on the tank: −m_1 (ẍ + a_lat) with x = L sin θ (MODEL.md §5).
-            -sl.mass_kg[0] * (l * (acc * th.cos() - w * w * th.sin()) + d.a_lat)
+            -sl.mass_kg[0] * (l * (acc * cos - w * w * sin) + d.a_lat)
         }
         Fidelity::TwoMode => {
-            let mut force = 0.0;
+            let mut force = c(0.0);
             for (n, (q, qd)) in [(Q1, Q1D), (Q2, Q2D)].into_iter().enumerate() {
                 let (om, ze) = (sl.omega[n], sl.zeta[n]);
-                let acc = -om * om * s[q] - 2.0 * ze * om * s[qd] - d.a_lat;
+                let acc = -om * om * s[q] - ze * 2.0 * om * s[qd] - d.a_lat;
                 ds[q] = s[qd];
                 ds[qd] = acc;
                 force -= sl.mass_kg[n] * (acc + d.a_lat);
@@ -91,21 +122,24 @@ pub fn motion_rates(p: &Params, s: &State, d: &Drive, x: &Derived, ds: &mut Stat
             force
         }
     };
-    if d.flying {
-        let g = flight::gravity(s[ALT]);
-        ds[VEL] = (d.thrust_n - x.drag_n) / x.vehicle_mass_kg - g * d.gamma_rad.sin();
-        ds[ALT] = s[VEL] * d.gamma_rad.sin();
+    if d.flying.any() {
+        let gravity = flight::gravity(s[ALT]);
+        let sin_gamma = d.gamma_rad.map(f64::sin);
+        let dv = (d.thrust_n - x.drag_n) / x.vehicle_mass_kg - gravity * sin_gamma;
+        ds[VEL] = T::select(d.flying, dv, ds[VEL]);
+        ds[ALT] = T::select(d.flying, s[VEL] * sin_gamma, ds[ALT]);
     }
-    if let Some(ps) = p.pressurization {
-        ds[P_FILT] = (x.p_ullage_pa - s[P_FILT]) / ps.derivative_filter_s;
+    if g.shared().pressurization.is_some() {
+        let tau: T = g.get(|p| p.pressurization.map_or(1.0, |q| q.derivative_filter_s));
+        ds[P_FILT] = (x.p_ullage_pa - s[P_FILT]) / tau;
     }
     force
 }
 
 /// Slosh speed used by the mixing couplings, rad/s: |θ̇| or Σ |ẋ_n| / L_n (MODEL.md §6.2).
-pub fn slosh_speed(p: &Params, s: &State, x: &Derived) -> f64 {
-    match p.fidelity {
-        Fidelity::Homogeneous => 0.0,
+pub fn slosh_speed<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> T {
+    match g.shared().fidelity {
+        Fidelity::Homogeneous => c(0.0),
         Fidelity::Lumped => s[Q1D].abs(),
         Fidelity::TwoMode => {
             s[Q1D].abs() / x.slosh.length_m[0] + s[Q2D].abs() / x.slosh.length_m[1]
@@ -114,12 +148,12 @@ pub fn slosh_speed(p: &Params, s: &State, x: &Derived) -> f64 {
 }
 
 /// Rate of the slosh angle, rad/s, for the coupling-I work term.
-pub fn slosh_angle_rate(p: &Params, s: &State, x: &Derived) -> f64 {
-    match p.fidelity {
+pub fn slosh_angle_rate<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> T {
+    match g.shared().fidelity {
         Fidelity::TwoMode => {
             let l = x.slosh.length_m[0];
             let r = s[Q1] / l;
-            s[Q1D] / l / (1.0 + r * r)
+            s[Q1D] / l / (r * r + 1.0)
         }
         _ => s[Q1D],
     }
@@ -128,34 +162,39 @@ pub fn slosh_angle_rate(p: &Params, s: &State, x: &Derived) -> f64 {
 /// Wall node rates: the insulation heat by area share, less the heat each node passes to the
 /// fluid (`q_wet_w` into the liquid, `q_dry_w` into the ullage), plus the hand-over of wall mass
 /// and its energy as the waterline moves with the liquid volume rate `dv_liquid_m3_s`.
-pub fn wall_rates(
-    p: &Params,
-    x: &Derived,
-    q_wet_w: f64,
-    q_dry_w: f64,
-    dv_liquid_m3_s: f64,
-    ds: &mut State,
+pub fn wall_rates<T: Real>(
+    g: Group<'_>,
+    x: &Derived<T>,
+    q_wet_w: T,
+    q_dry_w: T,
+    dv_liquid_m3_s: T,
+    ds: &mut State<T>,
 ) {
-    let dz = dv_liquid_m3_s / p.tank.cross_section_area_m2(x.level_m).max(1.0e-9);
-    let m_wall = p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2();
+    let section =
+        super::derive::tank_at(g, x.level_m, crate::geometry::Tank::cross_section_area_m2);
+    let dz = dv_liquid_m3_s / section.max_c(1.0e-9);
+    let m_wall: T = g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2());
+    let cp_wall: T = g.get(|p| p.wall_cp_j_per_kg_k);
     let dshare = x.wetted_share_slope * dz;
-    let t_moving = if dshare < 0.0 {
-        x.t_wall_wet_k
-    } else {
-        x.t_wall_dry_k
-    };
-    let handover = m_wall * dshare * p.wall_cp_j_per_kg_k * t_moving;
-    let q_env = p.heat_leak_w;
-    ds[E_WD] = q_env * (1.0 - x.wetted_share) - q_dry_w - handover;
+    let t_moving = T::select(dshare.lt(c(0.0)), x.t_wall_wet_k, x.t_wall_dry_k);
+    let handover = m_wall * dshare * cp_wall * t_moving;
+    let q_env: T = g.get(|p| p.heat_leak_w);
+    ds[E_WD] = q_env * x.wetted_share.rsub(1.0) - q_dry_w - handover;
     ds[E_WW] = q_env * x.wetted_share - q_wet_w + handover;
     ds[E_ENV] = q_env;
 }
 
 /// The ledger of what crossed the tank boundary: vented species, drawn propellant, helium in,
 /// and their energies (`h_u` the ullage enthalpy, `e_out_w` the enthalpy flow of the draw).
-pub fn boundary_ledger(b: &BoundaryFlows, h_press: f64, h_u: f64, e_out_w: f64, ds: &mut State) {
+pub fn boundary_ledger<T: Real>(
+    b: &BoundaryFlows<T>,
+    h_press: T,
+    h_u: T,
+    e_out_w: T,
+    ds: &mut State<T>,
+) {
     ds[VENT_V] = b.vent_kg_s * b.y_vapor;
-    ds[VENT_G] = b.vent_kg_s * (1.0 - b.y_vapor);
+    ds[VENT_G] = b.vent_kg_s * b.y_vapor.rsub(1.0);
     ds[OUT] = b.out_kg_s;
     ds[PRESS_IN] = b.press_kg_s;
     ds[E_PRESS] = b.press_kg_s * h_press;
@@ -164,7 +203,9 @@ pub fn boundary_ledger(b: &BoundaryFlows, h_press: f64, h_u: f64, e_out_w: f64, 
 }
 
 /// Helium enthalpy at the inlet temperature, J/kg.
-pub fn helium_inlet_enthalpy(p: &Params) -> f64 {
-    p.pressurization
-        .map_or(0.0, |ps| HELIUM.cp_j_per_kg_k * ps.gas_temperature_k)
+pub fn helium_inlet_enthalpy<T: Real>(g: Group<'_>) -> T {
+    g.get(|p| {
+        p.pressurization
+            .map_or(0.0, |ps| HELIUM.cp_j_per_kg_k * ps.gas_temperature_k)
+    })
 }

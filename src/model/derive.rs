@@ -4,47 +4,61 @@
 //! exactly what the physics saw.
 
 use super::flight::{self, PhaseKind};
-use super::params::{Fidelity, Params};
+use super::params::Fidelity;
 use super::slosh::{self, MIN_AXIAL_ACCEL};
 use super::state::*;
+use super::Group;
 use crate::fluids::HELIUM;
 use crate::geometry::Tank;
+use crate::lanes::{c, Mask, Real, WIDTH};
 
 /// Smallest wetted or dry share of the wall mass: keeps both wall nodes finite at 0 % and 100 %.
 pub const MIN_WALL_SHARE: f64 = 1.0e-3;
 
+/// `f` of each lane's tank at that lane's `z` (the geometry branches by zone, so lane by lane).
+#[inline(always)]
+pub fn tank_at<T: Real>(g: Group<'_>, z: T, f: impl Fn(&Tank, f64) -> f64) -> T {
+    T::from_fn(|i| f(&g.lanes()[i].tank, z.lane(i)))
+}
+
 /// Wetted share of the wall area at level `z`, clamped to [MIN_WALL_SHARE, 1 − MIN_WALL_SHARE],
 /// and its slope d(share)/dz, 1/m, zero where the clamp is active.
-pub fn wetted_share(tank: &Tank, z: f64) -> (f64, f64) {
-    let raw = tank.wetted_area_m2(z) / tank.wall_area_m2();
-    if raw <= MIN_WALL_SHARE || raw >= 1.0 - MIN_WALL_SHARE {
-        (raw.clamp(MIN_WALL_SHARE, 1.0 - MIN_WALL_SHARE), 0.0)
-    } else {
-        (raw, tank.wetted_area_slope_m(z) / tank.wall_area_m2())
-    }
+pub fn wetted_share<T: Real>(g: Group<'_>, z: T) -> (T, T) {
+    let wall: T = g.get(|p| p.tank.wall_area_m2());
+    let raw = tank_at(g, z, Tank::wetted_area_m2) / wall;
+    let clamped = raw.le(c(MIN_WALL_SHARE)) | raw.ge(c(1.0 - MIN_WALL_SHARE));
+    let slope = tank_at(g, z, Tank::wetted_area_slope_m) / wall;
+    (
+        T::select(
+            clamped,
+            raw.clamp_c(MIN_WALL_SHARE, 1.0 - MIN_WALL_SHARE),
+            raw,
+        ),
+        T::select(clamped, c(0.0), slope),
+    )
 }
 
 /// What the trajectory imposes at one instant.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Drive {
+pub struct Drive<T: Real = f64> {
     /// Engine thrust, N (0 unless burning).
-    pub thrust_n: f64,
+    pub thrust_n: T,
     /// Whether the engine draws propellant.
-    pub burning: bool,
+    pub burning: T::Mask,
     /// Whether the vehicle moves (false on a hold).
-    pub flying: bool,
+    pub flying: T::Mask,
     /// Flight-path angle, rad.
-    pub gamma_rad: f64,
+    pub gamma_rad: T,
     /// Phase gravity level / residual axial acceleration, m/s².
-    pub gravity_m_s2: f64,
+    pub gravity_m_s2: T,
     /// Lateral excitation, m/s².
-    pub a_lat: f64,
+    pub a_lat: T,
     /// Extra axial acceleration from a table excitation, m/s².
-    pub a_ax_extra: f64,
+    pub a_ax_extra: T,
     /// Whether the pressurization system may flow.
-    pub pressurize: bool,
+    pub pressurize: T::Mask,
     /// Relief valve open (hysteresis state, updated between steps).
-    pub valve_open: bool,
+    pub valve_open: T::Mask,
 }
 
 impl Drive {
@@ -66,84 +80,161 @@ impl Drive {
     }
 }
 
+impl<T: Real> Drive<T> {
+    /// The lanes' drives, lane `i` being `lane(i)`.
+    pub fn gather(lane: impl Fn(usize) -> Drive) -> Drive<T> {
+        let mut d = [Drive::default(); WIDTH];
+        for (i, di) in d.iter_mut().enumerate().take(T::LANES) {
+            *di = lane(i);
+        }
+        Drive {
+            thrust_n: T::from_fn(|i| d[i].thrust_n),
+            burning: T::Mask::from_fn(|i| d[i].burning),
+            flying: T::Mask::from_fn(|i| d[i].flying),
+            gamma_rad: T::from_fn(|i| d[i].gamma_rad),
+            gravity_m_s2: T::from_fn(|i| d[i].gravity_m_s2),
+            a_lat: T::from_fn(|i| d[i].a_lat),
+            a_ax_extra: T::from_fn(|i| d[i].a_ax_extra),
+            pressurize: T::Mask::from_fn(|i| d[i].pressurize),
+            valve_open: T::Mask::from_fn(|i| d[i].valve_open),
+        }
+    }
+
+    /// Lane `i`.
+    pub fn lane(&self, i: usize) -> Drive {
+        Drive {
+            thrust_n: self.thrust_n.lane(i),
+            burning: self.burning.lane(i),
+            flying: self.flying.lane(i),
+            gamma_rad: self.gamma_rad.lane(i),
+            gravity_m_s2: self.gravity_m_s2.lane(i),
+            a_lat: self.a_lat.lane(i),
+            a_ax_extra: self.a_ax_extra.lane(i),
+            pressurize: self.pressurize.lane(i),
+            valve_open: self.valve_open.lane(i),
+        }
+    }
+}
+
 /// Slosh analog parameters at the current level and acceleration.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct SloshParams {
+pub struct SloshParams<T = f64> {
     /// Modal masses m_1, m_2, kg.
-    pub mass_kg: [f64; 2],
+    pub mass_kg: [T; 2],
     /// Pendulum lengths L_1, L_2, m.
-    pub length_m: [f64; 2],
+    pub length_m: [T; 2],
     /// Natural angular frequencies ω_1, ω_2, rad/s.
-    pub omega: [f64; 2],
+    pub omega: [T; 2],
     /// Damping ratios ζ_1, ζ_2.
-    pub zeta: [f64; 2],
+    pub zeta: [T; 2],
 }
 
 /// Everything derived from one state.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Derived {
-    pub t_ullage_k: f64,
-    pub t_layer_k: f64,
-    pub t_bulk_k: f64,
-    pub t_wall_dry_k: f64,
-    pub t_wall_wet_k: f64,
-    pub rho_layer: f64,
-    pub rho_bulk: f64,
-    pub v_layer_m3: f64,
-    pub v_bulk_m3: f64,
-    pub v_ullage_m3: f64,
+pub struct Derived<T = f64> {
+    pub t_ullage_k: T,
+    pub t_layer_k: T,
+    pub t_bulk_k: T,
+    pub t_wall_dry_k: T,
+    pub t_wall_wet_k: T,
+    pub rho_layer: T,
+    pub rho_bulk: T,
+    pub v_layer_m3: T,
+    pub v_bulk_m3: T,
+    pub v_ullage_m3: T,
     /// Liquid level above the tank bottom, m.
-    pub level_m: f64,
-    pub interface_area_m2: f64,
-    pub wetted_share: f64,
-    pub wetted_share_slope: f64,
-    pub m_vapor_kg: f64,
-    pub m_liquid_kg: f64,
-    pub p_vapor_pa: f64,
-    pub p_ullage_pa: f64,
+    pub level_m: T,
+    pub interface_area_m2: T,
+    pub wetted_share: T,
+    pub wetted_share_slope: T,
+    pub m_vapor_kg: T,
+    pub m_liquid_kg: T,
+    pub p_vapor_pa: T,
+    pub p_ullage_pa: T,
     /// Effective axial acceleration seen by the liquid, m/s² (floored).
-    pub a_ax: f64,
+    pub a_ax: T,
     /// Vehicle mass, kg.
-    pub vehicle_mass_kg: f64,
+    pub vehicle_mass_kg: T,
     /// Drag, N.
-    pub drag_n: f64,
-    pub slosh: SloshParams,
+    pub drag_n: T,
+    pub slosh: SloshParams<T>,
+}
+
+impl<T: Real> SloshParams<T> {
+    /// Lane `i`.
+    pub fn lane(&self, i: usize) -> SloshParams {
+        let pair = |v: &[T; 2]| [v[0].lane(i), v[1].lane(i)];
+        SloshParams {
+            mass_kg: pair(&self.mass_kg),
+            length_m: pair(&self.length_m),
+            omega: pair(&self.omega),
+            zeta: pair(&self.zeta),
+        }
+    }
+}
+
+impl<T: Real> Derived<T> {
+    /// Lane `i`.
+    pub fn lane(&self, i: usize) -> Derived {
+        Derived {
+            t_ullage_k: self.t_ullage_k.lane(i),
+            t_layer_k: self.t_layer_k.lane(i),
+            t_bulk_k: self.t_bulk_k.lane(i),
+            t_wall_dry_k: self.t_wall_dry_k.lane(i),
+            t_wall_wet_k: self.t_wall_wet_k.lane(i),
+            rho_layer: self.rho_layer.lane(i),
+            rho_bulk: self.rho_bulk.lane(i),
+            v_layer_m3: self.v_layer_m3.lane(i),
+            v_bulk_m3: self.v_bulk_m3.lane(i),
+            v_ullage_m3: self.v_ullage_m3.lane(i),
+            level_m: self.level_m.lane(i),
+            interface_area_m2: self.interface_area_m2.lane(i),
+            wetted_share: self.wetted_share.lane(i),
+            wetted_share_slope: self.wetted_share_slope.lane(i),
+            m_vapor_kg: self.m_vapor_kg.lane(i),
+            m_liquid_kg: self.m_liquid_kg.lane(i),
+            p_vapor_pa: self.p_vapor_pa.lane(i),
+            p_ullage_pa: self.p_ullage_pa.lane(i),
+            a_ax: self.a_ax.lane(i),
+            vehicle_mass_kg: self.vehicle_mass_kg.lane(i),
+            drag_n: self.drag_n.lane(i),
+            slosh: self.slosh.lane(i),
+        }
+    }
 }
 
 /// Vehicle mass, drag and effective axial acceleration (MODEL.md §5, §8).
-fn flight_state(p: &Params, s: &State, d: &Drive, m_tank: f64) -> (f64, f64, f64) {
-    let frac = p.feed.propellant_fraction;
-    let other_used = s[OUT] * (1.0 / frac - 1.0);
-    let mass = (p.vehicle.dry_mass_kg + m_tank - other_used).max(1.0);
+fn flight_state<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, m_tank: T) -> (T, T, T) {
+    let frac: T = g.get(|p| p.feed.propellant_fraction);
+    let other_used = s[OUT] * (frac.rdiv(1.0) - 1.0);
+    let dry: T = g.get(|p| p.vehicle.dry_mass_kg);
+    let mass = (dry + m_tank - other_used).max_c(1.0);
     let v = s[VEL];
-    let drag = 0.5 * flight::air_density(s[ALT]) * v * v.abs() * p.vehicle.drag_area_m2;
-    let a = if d.flying {
-        (d.thrust_n - drag) / mass
-    } else {
-        0.0
-    };
+    let drag_area: T = g.get(|p| p.vehicle.drag_area_m2);
+    let drag = flight::air_density(s[ALT]) * 0.5 * v * v.abs() * drag_area;
+    let a = T::select(d.flying, (d.thrust_n - drag) / mass, c(0.0));
     (
         mass,
         drag,
-        (a + d.gravity_m_s2 + d.a_ax_extra).max(MIN_AXIAL_ACCEL),
+        (a + d.gravity_m_s2 + d.a_ax_extra).max_c(MIN_AXIAL_ACCEL),
     )
 }
 
 /// Slosh parameters from the equivalent cylinder at the current level (MODEL.md §5).
-fn slosh_params(
-    p: &Params,
-    v_liquid: f64,
-    m_liquid: f64,
-    z: f64,
-    a_ax: f64,
-    nu: f64,
-) -> SloshParams {
+fn slosh_params<T: Real>(
+    g: Group<'_>,
+    v_liquid: T,
+    m_liquid: T,
+    z: T,
+    a_ax: T,
+    nu: T,
+) -> SloshParams<T> {
+    let radius: T = g.get(|p| p.tank.radius_m());
     let (r, h) =
-        slosh::equivalent_cylinder(p.tank.surface_radius_m(z), v_liquid, p.tank.radius_m());
+        slosh::equivalent_cylinder(tank_at(g, z, Tank::surface_radius_m), v_liquid, radius);
     let hr = h / r;
-    let zeta = slosh::wall_damping(nu, r, a_ax, hr)
-        + slosh::baffle_damping(&p.baffles, r, z)
-        + p.extra_damping;
+    let extra: T = g.get(|p| p.extra_damping);
+    let zeta = slosh::wall_damping(nu, r, a_ax, hr) + slosh::baffle_damping(g, r, z) + extra;
     let mut out = SloshParams::default();
     for n in 0..2 {
         let shape = slosh::mode_shape(n, hr);
@@ -156,76 +247,86 @@ fn slosh_params(
 }
 
 /// Derive temperatures, volumes and pressures from the state.
-pub fn derive(p: &Params, s: &State, d: &Drive) -> Derived {
-    match p.fidelity {
-        Fidelity::Homogeneous => super::homogeneous::derive(p, s, d),
-        Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(p, s, d),
+pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
+    match g.shared().fidelity {
+        Fidelity::Homogeneous => super::homogeneous::derive(g, s, d),
+        Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(g, s, d),
     }
 }
 
 /// Wall temperatures from the wall energies and the wetted share.
-pub fn wall_temperatures(p: &Params, s: &State, wet: f64) -> (f64, f64) {
-    let mc = p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2() * p.wall_cp_j_per_kg_k;
-    (s[E_WD] / (mc * (1.0 - wet)), s[E_WW] / (mc * wet))
+pub fn wall_temperatures<T: Real>(g: Group<'_>, s: &State<T>, wet: T) -> (T, T) {
+    let mc: T =
+        g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2() * p.wall_cp_j_per_kg_k);
+    (s[E_WD] / (mc * wet.rsub(1.0)), s[E_WW] / (mc * wet))
 }
 
 /// Level-dependent quantities shared by both thermal formulations.
-pub fn fill_level(p: &Params, out: &mut Derived, v_liquid: f64) {
-    let z = p.tank.liquid_height_m(v_liquid);
+pub fn fill_level<T: Real>(g: Group<'_>, out: &mut Derived<T>, v_liquid: T) {
+    let z = tank_at(g, v_liquid, Tank::liquid_height_m);
     out.level_m = z;
-    out.interface_area_m2 = p
-        .tank
-        .interface_area_m2(z)
-        .max(1.0e-6 * p.tank.radius_m().powi(2));
-    (out.wetted_share, out.wetted_share_slope) = wetted_share(&p.tank, z);
+    let floor: T = g.get(|p| 1.0e-6 * p.tank.radius_m().powi(2));
+    out.interface_area_m2 = tank_at(g, z, Tank::interface_area_m2).max(floor);
+    (out.wetted_share, out.wetted_share_slope) = wetted_share(g, z);
 }
 
 /// Flight and slosh quantities shared by both thermal formulations.
-pub fn motion(p: &Params, s: &State, d: &Drive, out: &mut Derived, nu_liquid: f64) {
+pub fn motion<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    d: &Drive<T>,
+    out: &mut Derived<T>,
+    nu_liquid: T,
+) {
     let m_tank = out.m_liquid_kg + s[M_V] + s[M_G];
-    let (mass, drag, a_ax) = flight_state(p, s, d, m_tank);
+    let (mass, drag, a_ax) = flight_state(g, s, d, m_tank);
     out.vehicle_mass_kg = mass;
     out.drag_n = drag;
     out.a_ax = a_ax;
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
-    out.slosh = slosh_params(p, v_l, out.m_liquid_kg, out.level_m, a_ax, nu_liquid);
+    out.slosh = slosh_params(g, v_l, out.m_liquid_kg, out.level_m, a_ax, nu_liquid);
 }
 
-fn derive_nodes(p: &Params, s: &State, d: &Drive) -> Derived {
-    let f = p.fluid.props();
+fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
+    let fluid = g.shared().fluid;
+    let f = fluid.props();
     let mut out = Derived::default();
-    let m_s = s[M_S].max(1.0e-12);
-    let m_b = s[M_B].max(1.0e-12);
-    out.t_layer_k = p.fluid.t_from_h_l_k(s[H_S] / m_s);
-    out.t_bulk_k = p.fluid.t_from_h_l_k(s[H_B] / m_b);
+    let m_s = s[M_S].max_c(1.0e-12);
+    let m_b = s[M_B].max_c(1.0e-12);
+    out.t_layer_k = fluid.t_from_h_l_k(s[H_S] / m_s);
+    out.t_bulk_k = fluid.t_from_h_l_k(s[H_B] / m_b);
     out.rho_layer = f.rho_l_kg_per_m3(out.t_layer_k);
     out.rho_bulk = f.rho_l_kg_per_m3(out.t_bulk_k);
     out.v_layer_m3 = s[M_S] / out.rho_layer;
     out.v_bulk_m3 = s[M_B] / out.rho_bulk;
     out.m_liquid_kg = s[M_S] + s[M_B];
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
-    fill_level(p, &mut out, v_l);
+    fill_level(g, &mut out, v_l);
     let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
-    motion(p, s, d, &mut out, nu);
-    out.v_ullage_m3 =
-        p.tank.volume_m3() - v_l + p.coupling.volume_m3 * slosh_angle(p, s, &out.slosh).sin();
-    let off = vapor_enthalpy_offset(p.fluid);
+    motion(g, s, d, &mut out, nu);
+    let (v_tank, c_v): (T, T) = (
+        g.get(|p| p.tank.volume_m3()),
+        g.get(|p| p.coupling.volume_m3),
+    );
+    let angle = slosh_angle(g, s, &out.slosh);
+    out.v_ullage_m3 = v_tank - v_l + c_v * angle.map(f64::sin);
+    let off = vapor_enthalpy_offset(fluid);
     let heat_cap = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
     out.t_ullage_k = (s[U_U] - s[M_V] * off) / heat_cap;
     out.m_vapor_kg = s[M_V];
     out.p_vapor_pa = s[M_V] * f.r_specific_j_per_kg_k() * out.t_ullage_k / out.v_ullage_m3;
     out.p_ullage_pa =
         out.p_vapor_pa + s[M_G] * HELIUM.r_specific_j_per_kg_k() * out.t_ullage_k / out.v_ullage_m3;
-    let (twd, tww) = wall_temperatures(p, s, out.wetted_share);
+    let (twd, tww) = wall_temperatures(g, s, out.wetted_share);
     out.t_wall_dry_k = twd;
     out.t_wall_wet_k = tww;
     out
 }
 
 /// Slosh angle, rad: the pendulum angle (`lumped`) or atan(x_1 / L_1) (`two_mode`).
-pub fn slosh_angle(p: &Params, s: &State, sl: &SloshParams) -> f64 {
-    match p.fidelity {
-        Fidelity::TwoMode => (s[Q1] / sl.length_m[0]).atan(),
+pub fn slosh_angle<T: Real>(g: Group<'_>, s: &State<T>, sl: &SloshParams<T>) -> T {
+    match g.shared().fidelity {
+        Fidelity::TwoMode => (s[Q1] / sl.length_m[0]).map(f64::atan),
         _ => s[Q1],
     }
 }

@@ -3,6 +3,8 @@
 //! A phase fixes thrust, gravity level, flight-path angle and a lateral excitation; within a
 //! phase every instance advances with the same step, which keeps the GPU lockstep simple.
 
+use crate::lanes::Real;
+
 /// Standard gravity, m/s².
 pub const G0: f64 = 9.806_65;
 /// Sea-level pressure of the exponential atmosphere, Pa.
@@ -200,17 +202,17 @@ impl Phase {
 }
 
 /// Atmospheric density at altitude `h`, kg/m³ (exponential model, 0 below sea level clamp).
-pub fn air_density(h_m: f64) -> f64 {
-    RHO_SEA_LEVEL * (-h_m.max(0.0) / SCALE_HEIGHT_M).exp()
+pub fn air_density<T: Real>(h_m: T) -> T {
+    (-h_m.max_c(0.0) / SCALE_HEIGHT_M).exp() * RHO_SEA_LEVEL
 }
 
 /// Ambient pressure at altitude `h`, Pa: the relief valve's back pressure.
-pub fn ambient_pressure(h_m: f64) -> f64 {
-    P_SEA_LEVEL_PA * (-h_m.max(0.0) / SCALE_HEIGHT_M).exp()
+pub fn ambient_pressure<T: Real>(h_m: T) -> T {
+    (-h_m.max_c(0.0) / SCALE_HEIGHT_M).exp() * P_SEA_LEVEL_PA
 }
 
 /// Gravitational acceleration at altitude `h`, m/s² (inverse square).
-pub fn gravity(h_m: f64) -> f64 {
-    let r = EARTH_RADIUS_M / (EARTH_RADIUS_M + h_m.max(0.0));
-    G0 * r * r
+pub fn gravity<T: Real>(h_m: T) -> T {
+    let r = (h_m.max_c(0.0) + EARTH_RADIUS_M).rdiv(EARTH_RADIUS_M);
+    r * r * G0
 }

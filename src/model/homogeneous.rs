@@ -8,44 +8,53 @@
 
 use super::boundary;
 use super::derive::{fill_level, motion, wall_temperatures, Derived, Drive};
-use super::params::Params;
 use super::state::*;
 use super::thermal;
+use super::Group;
 use crate::fluids::HELIUM;
+use crate::lanes::{Mask, Real};
 
 /// Vapour mass at temperature `t` when `m_p` of propellant fills `v_tank` in equilibrium:
 /// m_v = ρ_v (V − m_p/ρ_l) / (1 − ρ_v/ρ_l), ρ_v = P_sat/(R_v T) (ideal gas, as in the ullage).
-fn vapor_mass(p: &Params, m_p: f64, t: f64) -> f64 {
-    let f = p.fluid.props();
-    let rho_v = f.psat_pa(t) / (f.r_specific_j_per_kg_k() * t);
+fn vapor_mass<T: Real>(g: Group<'_>, m_p: T, t: T) -> T {
+    let f = g.shared().fluid.props();
+    let rho_v = f.psat_pa(t) / (t * f.r_specific_j_per_kg_k());
     let rho_l = f.rho_l_kg_per_m3(t);
-    (rho_v * (p.tank.volume_m3() - m_p / rho_l) / (1.0 - rho_v / rho_l)).clamp(0.0, m_p)
+    let v_tank: T = g.get(|p| p.tank.volume_m3());
+    (rho_v * (v_tank - m_p / rho_l) / (rho_v / rho_l).rsub(1.0))
+        .max_c(0.0)
+        .min(m_p)
 }
 
 /// Energy of all fluid at equilibrium temperature `t`, J: liquid m_l h_l(T), vapour
 /// m_v (c_v,v T + offset) and helium m_g c_v,He T — the same references as the lumped nodes.
-pub fn fluid_energy(p: &Params, m_p: f64, m_g: f64, t: f64) -> f64 {
-    let f = p.fluid.props();
-    let m_v = vapor_mass(p, m_p, t);
-    let u_v = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(p.fluid);
+pub fn fluid_energy<T: Real>(g: Group<'_>, m_p: T, m_g: T, t: T) -> T {
+    let fluid = g.shared().fluid;
+    let f = fluid.props();
+    let m_v = vapor_mass(g, m_p, t);
+    let u_v = t * f.cv_vapor_j_per_kg_k + vapor_enthalpy_offset(fluid);
     (m_p - m_v) * f.h_l_j_per_kg(t) + m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t
 }
 
 /// Equilibrium temperature for the conserved propellant mass, helium mass and fluid energy:
-/// Newton on E(T) with a secant-free analytic-enough central difference, started from the
-/// all-liquid temperature, bracketed to the fluid's range.
-pub fn temperature(p: &Params, m_p: f64, m_g: f64, e: f64) -> f64 {
-    let f = p.fluid.props();
+/// Newton on E(T) with a central-difference slope, started from the all-liquid temperature,
+/// bracketed to the fluid's range. A lane stops moving once its step is below 1e-13 T.
+pub fn temperature<T: Real>(g: Group<'_>, m_p: T, m_g: T, e: T) -> T {
+    let fluid = g.shared().fluid;
+    let f = fluid.props();
     let (lo, hi) = (f.t_min_k, f.t_max_k);
-    let mut t = p.fluid.t_from_h_l_k(e / m_p).clamp(lo, hi);
+    let mut t = fluid.t_from_h_l_k(e / m_p).clamp_c(lo, hi);
+    let mut done = T::Mask::splat(false);
     for _ in 0..40 {
-        let h = 1.0e-6 * t;
-        let r = fluid_energy(p, m_p, m_g, t) - e;
+        let h = t * 1.0e-6;
+        let r = fluid_energy(g, m_p, m_g, t) - e;
         let slope =
-            (fluid_energy(p, m_p, m_g, t + h) - fluid_energy(p, m_p, m_g, t - h)) / (2.0 * h);
+            (fluid_energy(g, m_p, m_g, t + h) - fluid_energy(g, m_p, m_g, t - h)) / (h * 2.0);
         let step = r / slope;
-        t = (t - step).clamp(lo, hi);
-        if step.abs() <= 1.0e-13 * t {
+        let next = (t - step).clamp_c(lo, hi);
+        t = T::select(done, t, next);
+        done = done | step.abs().le(next * 1.0e-13);
+        if done.all() {
             break;
         }
     }
@@ -53,11 +62,11 @@ pub fn temperature(p: &Params, m_p: f64, m_g: f64, e: f64) -> f64 {
 }
 
 /// Derived quantities of the equilibrium state.
-pub fn derive(p: &Params, s: &State, d: &Drive) -> Derived {
-    let f = p.fluid.props();
+pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
+    let f = g.shared().fluid.props();
     let (m_p, m_g) = (s[M_B], s[M_G]);
-    let t = temperature(p, m_p, m_g, s[H_B]);
-    let m_v = vapor_mass(p, m_p, t);
+    let t = temperature(g, m_p, m_g, s[H_B]);
+    let m_v = vapor_mass(g, m_p, t);
     let rho = f.rho_l_kg_per_m3(t);
     let mut out = Derived {
         t_ullage_k: t,
@@ -71,60 +80,63 @@ pub fn derive(p: &Params, s: &State, d: &Drive) -> Derived {
         ..Default::default()
     };
     let v_l = out.v_bulk_m3;
-    fill_level(p, &mut out, v_l);
-    out.v_ullage_m3 = p.tank.volume_m3() - out.v_bulk_m3;
+    fill_level(g, &mut out, v_l);
+    let v_tank: T = g.get(|p| p.tank.volume_m3());
+    out.v_ullage_m3 = v_tank - out.v_bulk_m3;
     out.p_vapor_pa = f.psat_pa(t);
     out.p_ullage_pa = out.p_vapor_pa + m_g * HELIUM.r_specific_j_per_kg_k() * t / out.v_ullage_m3;
-    let (twd, tww) = wall_temperatures(p, s, out.wetted_share);
+    let (twd, tww) = wall_temperatures(g, s, out.wetted_share);
     out.t_wall_dry_k = twd;
     out.t_wall_wet_k = tww;
-    motion(p, s, d, &mut out, f.mu_l_pa_s(t) / rho);
+    motion(g, s, d, &mut out, f.mu_l_pa_s(t) / rho);
     out
 }
 
 /// Right-hand side of the equilibrium node: wall heat, helium, venting and outflow.
-pub fn rhs(
-    p: &Params,
-    s: &State,
-    d: &Drive,
-    x: &Derived,
-    dt: f64,
-    ds: &mut State,
-) -> boundary::BoundaryFlows {
-    let f = p.fluid.props();
+pub fn rhs<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    d: &Drive<T>,
+    x: &Derived<T>,
+    dt: T,
+    ds: &mut State<T>,
+) -> boundary::BoundaryFlows<T> {
+    let fluid = g.shared().fluid;
+    let f = fluid.props();
     let t = x.t_bulk_k;
-    let a_tot = p.tank.wall_area_m2();
-    let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * (1.0 - x.wetted_share));
+    let a_tot: T = g.get(|p| p.tank.wall_area_m2());
+    let dry_share = x.wetted_share.rsub(1.0);
+    let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * dry_share);
     let rho = x.rho_bulk;
-    let liq = super::nodes::liquid_props(p, t);
-    let gas = super::nodes::gas_props(p, s, x);
+    let liq = super::nodes::liquid_props(g, t);
+    let gas = super::nodes::gas_props(g, s, x);
     let m_u = x.m_vapor_kg + s[M_G];
-    let (h_wl, h_wu) = super::nodes::wall_coefficients(p, x, &liq, &gas, t, t);
+    let (h_wl, h_wu) = super::nodes::wall_coefficients(g, x, &liq, &gas, t, t);
     // The fluid's heat capacity is far larger than a wall node's: the wall side limits the step.
-    let c_wall = p.wall_areal_mass_kg_per_m2 * a_tot * p.wall_cp_j_per_kg_k;
+    let c_wall: T =
+        g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2() * p.wall_cp_j_per_kg_k);
     let c_fluid = x.m_liquid_kg * liq.cp + m_u * f.cv_vapor_j_per_kg_k;
     let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_fluid);
-    let ua_wu =
-        thermal::limited_conductance(h_wu * a_dry, dt, c_wall * (1.0 - x.wetted_share), c_fluid);
+    let ua_wu = thermal::limited_conductance(h_wu * a_dry, dt, c_wall * dry_share, c_fluid);
     let q_wl = ua_wl * (x.t_wall_wet_k - t);
     let q_wu = ua_wu * (x.t_wall_dry_k - t);
 
     // The M_V slot is unused here; the ullage composition comes from the equilibrium.
     let mut sv = *s;
     sv[M_V] = x.m_vapor_kg;
-    let b = boundary::boundary_flows(p, &sv, d, x);
-    let h_v = f.cp_vapor_j_per_kg_k * t + vapor_enthalpy_offset(p.fluid);
-    let h_u = b.y_vapor * h_v + (1.0 - b.y_vapor) * HELIUM.cp_j_per_kg_k * t;
+    let b = boundary::boundary_flows(g, &sv, d, x);
+    let h_v = t * f.cp_vapor_j_per_kg_k + vapor_enthalpy_offset(fluid);
+    let h_u = b.y_vapor * h_v + b.y_vapor.rsub(1.0) * HELIUM.cp_j_per_kg_k * t;
     let h_l = f.h_l_j_per_kg(t);
-    let h_press = boundary::helium_inlet_enthalpy(p);
+    let h_press = boundary::helium_inlet_enthalpy(g);
 
     ds[M_B] = -b.out_kg_s - b.vent_kg_s * b.y_vapor;
-    ds[M_G] = b.press_kg_s - b.vent_kg_s * (1.0 - b.y_vapor);
+    ds[M_G] = b.press_kg_s - b.vent_kg_s * b.y_vapor.rsub(1.0);
     ds[H_B] = q_wl + q_wu + b.press_kg_s * h_press - b.vent_kg_s * h_u - b.out_kg_s * h_l;
-    boundary::motion_rates(p, s, d, x, ds);
+    boundary::motion_rates(g, s, d, x, ds);
 
     // Level motion for the wall hand-over (vapour share neglected).
-    boundary::wall_rates(p, x, q_wl, q_wu, ds[M_B] / rho, ds);
+    boundary::wall_rates(g, x, q_wl, q_wu, ds[M_B] / rho, ds);
     boundary::boundary_ledger(&b, h_press, h_u, b.out_kg_s * h_l, ds);
     b
 }

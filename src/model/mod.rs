@@ -1,5 +1,8 @@
 //! The physics of one tank instance (MODEL.md): stateless math over a state vector and a
 //! parameter record. No I/O, no threads, no allocation in the step.
+//!
+//! Written once over [`Real`]: `f64` integrates one instance, [`crate::lanes::Lanes`] a lane
+//! group of instances in lockstep, each lane with its own [`Params`] (a [`Group`]).
 
 pub mod boundary;
 pub mod derive;
@@ -11,33 +14,79 @@ pub mod slosh;
 pub mod state;
 pub mod thermal;
 
+use crate::lanes::{Mask, Real};
 use derive::{Derived, Drive};
-use flight::Phase;
 use nodes::Fluxes;
 use params::{Fidelity, Params};
 use state::{State, NS};
 
+/// The parameters of the instances integrated together: one [`Params`] per lane, alike in
+/// everything but numbers ([`Params::lane_compatible`]). Structure (level, propellant, shape,
+/// which optional systems exist) is read from the first lane, every number from its own lane.
+#[derive(Clone, Copy, Debug)]
+pub struct Group<'a>(&'a [Params]);
+
+impl<'a> Group<'a> {
+    /// A group of one instance.
+    pub fn one(p: &'a Params) -> Group<'a> {
+        Group(std::slice::from_ref(p))
+    }
+
+    /// The group of `lanes`, which must be mutually [`Params::lane_compatible`].
+    pub fn of(lanes: &'a [Params]) -> Group<'a> {
+        debug_assert!(lanes.iter().all(|p| lanes[0].lane_compatible(p)));
+        Group(lanes)
+    }
+
+    /// The structure every lane shares.
+    pub fn shared(&self) -> &'a Params {
+        &self.0[0]
+    }
+
+    /// Every lane's parameters.
+    pub fn lanes(&self) -> &'a [Params] {
+        self.0
+    }
+
+    /// A number of each lane's parameters.
+    #[inline(always)]
+    pub fn get<T: Real>(&self, f: impl Fn(&Params) -> f64) -> T {
+        T::from_fn(|i| f(&self.0[i]))
+    }
+}
+
 /// The derived quantities and fluxes at one instant, and the state derivative.
 #[derive(Clone, Copy, Debug)]
-pub struct Evaluation {
-    pub derived: Derived,
-    pub fluxes: Fluxes,
-    pub rates: State,
+pub struct Evaluation<T: Real = f64> {
+    pub derived: Derived<T>,
+    pub fluxes: Fluxes<T>,
+    pub rates: State<T>,
+}
+
+impl<T: Real> Evaluation<T> {
+    /// Lane `i`.
+    pub fn lane(&self, i: usize) -> Evaluation {
+        Evaluation {
+            derived: self.derived.lane(i),
+            fluxes: self.fluxes.lane(i),
+            rates: state::lane(&self.rates, i),
+        }
+    }
 }
 
 /// Evaluate the right-hand side at state `s` under drive `d`; `dt` is the integrator's step.
-pub fn evaluate(p: &Params, s: &State, d: &Drive, dt: f64) -> Evaluation {
-    let x = derive::derive(p, s, d);
-    let mut ds = [0.0; NS];
-    let fluxes = match p.fidelity {
+pub fn evaluate<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, dt: T) -> Evaluation<T> {
+    let x = derive::derive(g, s, d);
+    let mut ds = [T::default(); NS];
+    let fluxes = match g.shared().fidelity {
         Fidelity::Homogeneous => {
-            let b = homogeneous::rhs(p, s, d, &x, dt, &mut ds);
+            let b = homogeneous::rhs(g, s, d, &x, dt, &mut ds);
             Fluxes {
                 boundary: b,
                 ..Default::default()
             }
         }
-        Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(p, s, d, &x, dt, &mut ds),
+        Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(g, s, d, &x, dt, &mut ds),
     };
     Evaluation {
         derived: x,
@@ -47,45 +96,46 @@ pub fn evaluate(p: &Params, s: &State, d: &Drive, dt: f64) -> Evaluation {
 }
 
 /// One classical fourth-order Runge–Kutta step of length `dt` from phase time `t` (the GPU
-/// kernel mirrors this in lockstep). The relief-valve state is held over the step. `k1`, when
-/// given, is the derivative already evaluated at (s, t, dt, valve_open) by the caller.
-pub fn rk4_step(
-    p: &Params,
-    phase: &Phase,
-    s: &mut State,
-    t: f64,
-    dt: f64,
-    valve_open: bool,
-    k1: Option<&State>,
+/// kernel mirrors this in lockstep); `drive(t)` is the trajectory at time t, with the
+/// relief-valve state held over the step. `k1`, when given, is the derivative already evaluated
+/// at (s, t, dt) by the caller.
+pub fn rk4_step<T: Real>(
+    g: Group<'_>,
+    drive: impl Fn(T) -> Drive<T>,
+    s: &mut State<T>,
+    t: T,
+    dt: T,
+    k1: Option<&State<T>>,
 ) {
-    let drive = |tt: f64| Drive::of_phase(phase, tt, valve_open);
     let k1 = match k1 {
         Some(k) => *k,
-        None => evaluate(p, s, &drive(t), dt).rates,
+        None => evaluate(g, s, &drive(t), dt).rates,
     };
-    let k2 = evaluate(p, &axpy(s, 0.5 * dt, &k1), &drive(t + 0.5 * dt), dt).rates;
-    let k3 = evaluate(p, &axpy(s, 0.5 * dt, &k2), &drive(t + 0.5 * dt), dt).rates;
-    let k4 = evaluate(p, &axpy(s, dt, &k3), &drive(t + dt), dt).rates;
+    let half = dt * 0.5;
+    let k2 = evaluate(g, &axpy(s, half, &k1), &drive(t + half), dt).rates;
+    let k3 = evaluate(g, &axpy(s, half, &k2), &drive(t + half), dt).rates;
+    let k4 = evaluate(g, &axpy(s, dt, &k3), &drive(t + dt), dt).rates;
+    let w = dt / 6.0;
     for i in 0..NS {
-        s[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        s[i] += w * (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]);
     }
 }
 
 /// s + a·k.
-fn axpy(s: &State, a: f64, k: &State) -> State {
+fn axpy<T: Real>(s: &State<T>, a: T, k: &State<T>) -> State<T> {
     let mut out = *s;
-    for (o, ki) in out.iter_mut().zip(k) {
+    for (o, &ki) in out.iter_mut().zip(k) {
         *o += a * ki;
     }
     out
 }
 
 /// Relief-valve hysteresis: open at or above the crack pressure, closed at or below reseat.
-pub fn update_valve(p: &Params, pressure_pa: f64, open: bool) -> bool {
-    match p.relief {
-        Some(r) if pressure_pa >= r.crack_pa => true,
-        Some(r) if pressure_pa <= r.reseat_pa => false,
-        Some(_) => open,
-        None => false,
+pub fn update_valve<T: Real>(g: Group<'_>, pressure_pa: T, open: T::Mask) -> T::Mask {
+    if g.shared().relief.is_none() {
+        return T::Mask::splat(false);
     }
+    let crack: T = g.get(|p| p.relief.map_or(0.0, |r| r.crack_pa));
+    let reseat: T = g.get(|p| p.relief.map_or(0.0, |r| r.reseat_pa));
+    pressure_pa.ge(crack) | (!pressure_pa.le(reseat) & open)
 }

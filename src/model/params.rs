@@ -178,3 +178,22 @@ pub struct Params {
     pub feed: Feed,
     pub vehicle: Vehicle,
 }
+
+impl Params {
+    /// Whether `other` can share a lane group with `self`: the same level, propellant and tank
+    /// shape, and the same optional systems and closures present (their numbers may differ).
+    pub fn lane_compatible(&self, other: &Params) -> bool {
+        let (a, b) = (&self.heat_transfer, &other.heat_transfer);
+        self.fidelity == other.fidelity
+            && self.fluid == other.fluid
+            && self.tank.shape() == other.tank.shape()
+            && self.pressurization.is_some() == other.pressurization.is_some()
+            && self.relief.is_some() == other.relief.is_some()
+            && a.evaporation_coefficient_kg_per_s_pa.is_some()
+                == b.evaporation_coefficient_kg_per_s_pa.is_some()
+            && a.h_us_w_per_m2_k.is_some() == b.h_us_w_per_m2_k.is_some()
+            && a.h_sb_w_per_m2_k.is_some() == b.h_sb_w_per_m2_k.is_some()
+            && a.h_wall_ullage_w_per_m2_k.is_some() == b.h_wall_ullage_w_per_m2_k.is_some()
+            && a.h_wall_liquid_w_per_m2_k.is_some() == b.h_wall_liquid_w_per_m2_k.is_some()
+    }
+}

@@ -4,7 +4,8 @@
 //! ch. 6; Dodge, "The New Dynamic Behavior of Liquids in Moving Containers", 2000). Spheres and
 //! domed tanks use the equivalent cylinder documented in [`equivalent_cylinder`].
 
-use super::params::Baffles;
+use super::Group;
+use crate::lanes::{c, Mask, Real};
 use std::f64::consts::PI;
 
 /// Roots of J1'(ξ) = 0 for the first two antisymmetric modes.
@@ -19,37 +20,37 @@ pub const MIN_DEPTH_RATIO: f64 = 0.02;
 
 /// Dimensionless properties of slosh mode `n` (0-based) at depth ratio h/R.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ModeShape {
+pub struct ModeShape<T = f64> {
     /// Modal mass over liquid mass, m_n / m_l.
-    pub mass_ratio: f64,
+    pub mass_ratio: T,
     /// Pendulum length over radius, L_n / R.
-    pub length_ratio: f64,
+    pub length_ratio: T,
     /// ω_n² R / a_ax.
-    pub omega2_ratio: f64,
+    pub omega2_ratio: T,
 }
 
 /// SP-106 modal properties of a flat-bottom cylinder.
-pub fn mode_shape(n: usize, h_over_r: f64) -> ModeShape {
+pub fn mode_shape<T: Real>(n: usize, h_over_r: T) -> ModeShape<T> {
     let xi = XI[n];
-    let hr = h_over_r.max(MIN_DEPTH_RATIO);
-    let th = (xi * hr).tanh();
+    let hr = h_over_r.max_c(MIN_DEPTH_RATIO);
+    let th = (hr * xi).map(f64::tanh);
     ModeShape {
-        mass_ratio: 2.0 * th / (xi * (xi * xi - 1.0) * hr),
-        length_ratio: 1.0 / (xi * th),
-        omega2_ratio: xi * th,
+        mass_ratio: th * 2.0 / (hr * (xi * (xi * xi - 1.0))),
+        length_ratio: (th * xi).rdiv(1.0),
+        omega2_ratio: th * xi,
     }
 }
 
 /// Equivalent flat-bottom cylinder for any shape: the free-surface radius r and the depth that
 /// holds the liquid volume under that surface, h = V_l / (π r²). Exact for a cylinder; for a
 /// half-full sphere it gives ω² R/g = 1.550 against 1.56 from McIver (1989). Returns (R, h).
-pub fn equivalent_cylinder(
-    surface_radius_m: f64,
-    liquid_volume_m3: f64,
-    tank_radius_m: f64,
-) -> (f64, f64) {
-    let r = surface_radius_m.max(0.05 * tank_radius_m);
-    let h = liquid_volume_m3 / (PI * r * r);
+pub fn equivalent_cylinder<T: Real>(
+    surface_radius_m: T,
+    liquid_volume_m3: T,
+    tank_radius_m: T,
+) -> (T, T) {
+    let r = surface_radius_m.max(tank_radius_m * 0.05);
+    let h = liquid_volume_m3 / (r * r * PI);
     (r, h)
 }
 
@@ -59,30 +60,40 @@ pub fn equivalent_cylinder(
     reason = "0.318 is the published empirical constant, not 1/π"
 )]
 /// `nu` kinematic viscosity m²/s, `r` radius m, `a_ax` axial acceleration m/s².
-pub fn wall_damping(nu: f64, r: f64, a_ax: f64, h_over_r: f64) -> f64 {
-    let hr = h_over_r.max(MIN_DEPTH_RATIO);
-    let x = 1.84 * hr;
-    let shape = 1.0 + (0.318 / x.sinh()) * (1.0 + (1.0 - hr) / x.cosh());
+pub fn wall_damping<T: Real>(nu: T, r: T, a_ax: T, h_over_r: T) -> T {
+    let hr = h_over_r.max_c(MIN_DEPTH_RATIO);
+    let x = hr * 1.84;
+    let shape = x.map(f64::sinh).rdiv(0.318) * ((hr.rsub(1.0) / x.map(f64::cosh)) + 1.0) + 1.0;
     // r^(-3/4) a^(-1/4) = (r³ a)^(-1/4), by two square roots.
-    let a = a_ax.max(MIN_AXIAL_ACCEL);
-    (4.98 / (2.0 * PI)) * nu.sqrt() * shape / (r * r * r * a).sqrt().sqrt()
+    let a = a_ax.max_c(MIN_AXIAL_ACCEL);
+    nu.sqrt() * (4.98 / (2.0 * PI)) * shape / (r * r * r * a).sqrt().sqrt()
 }
 
 /// Ring-baffle damping ratio (Miles 1958, SP-106 eq. 4.15): only rings below the surface count,
-/// each weighted by exp(−4.6 d/R) with d its depth below the free surface `z_surface_m`.
-pub fn baffle_damping(b: &Baffles, r: f64, z_surface_m: f64) -> f64 {
-    if b.count == 0 || b.width_m <= 0.0 {
-        return 0.0;
+/// each weighted by exp(−4.6 d/R) with d its depth below the free surface `z_surface_m`. The
+/// ring count may differ between lanes: rings beyond a lane's count add nothing to it.
+pub fn baffle_damping<T: Real>(g: Group<'_>, r: T, z_surface_m: T) -> T {
+    let rings = g.lanes().iter().map(|p| p.baffles.count).max().unwrap_or(0);
+    if rings == 0 {
+        return c(0.0);
     }
-    let w = (b.width_m / r).min(1.0);
-    let alpha = w * (2.0 - w);
-    let mut sum = 0.0;
-    for k in 0..b.count {
-        let z_ring = b.top_height_m - f64::from(k) * b.spacing_m;
+    let width: T = g.get(|p| p.baffles.width_m);
+    let (top, spacing): (T, T) = (
+        g.get(|p| p.baffles.top_height_m),
+        g.get(|p| p.baffles.spacing_m),
+    );
+    let w = (width / r).min_c(1.0);
+    let alpha = w * w.rsub(2.0);
+    let mut sum: T = c(0.0);
+    for k in 0..rings {
+        let z_ring = top - spacing * f64::from(k);
         let depth = z_surface_m - z_ring;
-        if depth >= 0.0 {
-            sum += (-4.6 * depth / r).exp();
-        }
+        let counts = T::Mask::from_fn(|i| k < g.lanes()[i].baffles.count);
+        let under = depth.ge(c(0.0)) & counts;
+        sum += T::select(under, (depth * -4.6 / r).exp(), c(0.0));
     }
-    2.83 * (b.wave_amplitude_m / r).sqrt() * sum * alpha * alpha.sqrt()
+    let amplitude: T = g.get(|p| p.baffles.wave_amplitude_m);
+    let zeta = (amplitude / r).sqrt() * 2.83 * sum * alpha * alpha.sqrt();
+    let none = T::Mask::from_fn(|i| g.lanes()[i].baffles.count == 0) | width.le(c(0.0));
+    T::select(none, c(0.0), zeta)
 }

@@ -63,8 +63,13 @@ pub const E_WORK: usize = 24;
 /// Number of state slots.
 pub const NS: usize = 25;
 
-/// A state vector.
-pub type State = [f64; NS];
+/// A state vector (one per lane group: slot by slot, each slot a lane vector).
+pub type State<T = f64> = [T; NS];
+
+/// Lane `i` of a lane group's state.
+pub fn lane<T: crate::lanes::Real>(s: &State<T>, i: usize) -> State {
+    std::array::from_fn(|j| s[j].lane(i))
+}
 
 /// Enthalpy reference of the vapour as an ideal gas: h_v(T) = c_p,v T + offset, with the offset
 /// chosen so that h_v − h_l = h_fg at the normal boiling point (MODEL.md §4, consistent
@@ -87,7 +92,7 @@ pub fn vapor_enthalpy_offset_of(f: &FluidProps) -> f64 {
 fn initial_level(p: &Params) -> (f64, f64) {
     let v_l = p.fill_fraction * p.tank.volume_m3();
     let z = p.tank.liquid_height_m(v_l);
-    (z, super::derive::wetted_share(&p.tank, z).0)
+    (z, super::derive::wetted_share(super::Group::one(p), z).0)
 }
 
 /// The initial state: liquid at `liquid_temperature_k`, ullage at the initial pressure (vapour at
@@ -112,7 +117,7 @@ pub fn initial_state(p: &Params) -> State {
         Fidelity::Homogeneous => {
             // One equilibrium node: liquid, vapour and helium at the liquid temperature.
             s[M_B] = m_l + m_v;
-            s[H_B] = super::homogeneous::fluid_energy(p, m_l + m_v, m_g, t_l);
+            s[H_B] = super::homogeneous::fluid_energy(super::Group::one(p), m_l + m_v, m_g, t_l);
             s[M_V] = 0.0;
         }
         Fidelity::Lumped | Fidelity::TwoMode => {

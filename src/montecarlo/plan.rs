@@ -3,8 +3,9 @@
 
 use crate::campaign::dispersion::Dispersions;
 use crate::campaign::{Campaign, CampaignError};
+use crate::lanes::WIDTH;
 use crate::sampling::{correlate, unit_sample};
-use crate::simulate::{simulate, Summary};
+use crate::simulate::{simulate, simulate_lanes, Summary};
 
 /// What every backend needs to integrate any instance of a campaign.
 #[derive(Clone, Copy, Debug)]
@@ -90,5 +91,47 @@ impl Plan<'_> {
     pub fn run_instance(&self, i: u64) -> InstanceRecord {
         let (inputs, resolved) = self.resolve(i);
         self.record(i, inputs, resolved)
+    }
+
+    /// Sample, build and integrate the instances `range` (at most [`WIDTH`]) as one lane group
+    /// when their parameters are [`lane_compatible`](crate::model::params::Params::lane_compatible),
+    /// one at a time otherwise. The records equal [`Self::run_instance`]'s bit for bit.
+    pub fn run_lanes(&self, range: std::ops::Range<u64>) -> Vec<InstanceRecord> {
+        debug_assert!(range.end - range.start <= WIDTH as u64);
+        let resolved: Vec<_> = range.clone().map(|i| self.resolve(i)).collect();
+        let valid: Vec<&Campaign> = resolved
+            .iter()
+            .filter_map(|(_, r)| r.as_ref().ok())
+            .map(|c| c.as_ref().unwrap_or(self.campaign))
+            .collect();
+        let alike = valid
+            .iter()
+            .all(|c| valid[0].params.lane_compatible(&c.params));
+        if valid.len() < 2 || !alike {
+            return range
+                .zip(resolved)
+                .map(|(i, (inputs, r))| self.record(i, inputs, r))
+                .collect();
+        }
+        // Empty lanes repeat the first instance; their results are dropped.
+        let members: Vec<(&Campaign, &crate::model::params::Params)> = (0..WIDTH)
+            .map(|k| {
+                let c = valid.get(k).unwrap_or(&valid[0]);
+                (*c, &c.params)
+            })
+            .collect();
+        let mut summaries = simulate_lanes(&members).into_iter();
+        range
+            .zip(resolved)
+            .map(|(i, (inputs, r))| match r {
+                Ok(_) => InstanceRecord {
+                    instance: i,
+                    inputs,
+                    summary: summaries.next().unwrap_or_default(),
+                    rejected: false,
+                },
+                Err(_) => self.record(i, inputs, r),
+            })
+            .collect()
     }
 }

@@ -1,0 +1,373 @@
+//! Lane arithmetic: the model is written once over [`Real`], which is `f64` for one instance and
+//! [`Lanes`] for [`WIDTH`] instances advanced in lockstep (structure of arrays).
+//!
+//! Every [`Lanes`] operation applies the `f64` operation of the same name to each lane, so lane
+//! `i` of any computation is bit-identical to the same computation in `f64` on instance `i`:
+//! `simulate --instance I` reproduces a row of a run exactly. The lane loops are fixed-length and
+//! branch-free, which is what lets the compiler turn them into vector instructions. Branches of
+//! the model become [`Real::select`] over a [`Mask`]; the transcendental functions the right-hand
+//! side calls most often ([`math`]) are branch-free too, and `f64` uses the same code.
+
+pub mod math;
+
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, BitAnd, BitOr, Div, Mul, MulAssign, Neg, Not, Sub, SubAssign};
+
+/// Instances per lane group of the CPU engine.
+pub const WIDTH: usize = 4;
+
+/// A per-lane boolean: `bool` for one instance, [`LaneMask`] for a lane group.
+pub trait Mask:
+    Copy + Debug + Default + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self>
+{
+    /// The same value in every lane.
+    fn splat(b: bool) -> Self;
+    /// Lane `i` is `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> bool) -> Self;
+    /// Lane `i`.
+    fn lane(self, i: usize) -> bool;
+    /// Whether any lane is set.
+    fn any(self) -> bool;
+    /// Whether every lane is set.
+    fn all(self) -> bool;
+}
+
+/// A real number per lane: `f64` for one instance, [`Lanes`] for a lane group.
+pub trait Real:
+    Copy
+    + Debug
+    + Default
+    + Send
+    + Sync
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+{
+    /// Its mask type.
+    type Mask: Mask;
+    /// Number of lanes.
+    const LANES: usize;
+
+    /// The same value in every lane.
+    fn splat(v: f64) -> Self;
+    /// Lane `i` is `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
+    /// Lane `i`.
+    fn lane(self, i: usize) -> f64;
+    /// `f` applied to every lane.
+    fn map(self, f: impl Fn(f64) -> f64) -> Self;
+    /// `f` applied lane by lane to `self` and `o`.
+    fn zip(self, o: Self, f: impl Fn(f64, f64) -> f64) -> Self;
+    /// `f` applied lane by lane, giving a mask.
+    fn test(self, o: Self, f: impl Fn(f64, f64) -> bool) -> Self::Mask;
+    /// `a` where `m` is set, `b` elsewhere.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+
+    /// `self < o`.
+    fn lt(self, o: Self) -> Self::Mask {
+        self.test(o, |a, b| a < b)
+    }
+    /// `self <= o`.
+    fn le(self, o: Self) -> Self::Mask {
+        self.test(o, |a, b| a <= b)
+    }
+    /// `self > o`.
+    fn gt(self, o: Self) -> Self::Mask {
+        self.test(o, |a, b| a > b)
+    }
+    /// `self >= o`.
+    fn ge(self, o: Self) -> Self::Mask {
+        self.test(o, |a, b| a >= b)
+    }
+    /// Whether the lane is neither infinite nor NaN.
+    fn is_finite(self) -> Self::Mask {
+        self.test(self, |a, _| a.is_finite())
+    }
+    /// [`f64::max`].
+    fn max(self, o: Self) -> Self {
+        self.zip(o, f64::max)
+    }
+    /// [`f64::min`].
+    fn min(self, o: Self) -> Self {
+        self.zip(o, f64::min)
+    }
+    /// [`f64::max`] with a constant.
+    fn max_c(self, o: f64) -> Self {
+        self.map(|a| a.max(o))
+    }
+    /// [`f64::min`] with a constant.
+    fn min_c(self, o: f64) -> Self {
+        self.map(|a| a.min(o))
+    }
+    /// [`f64::clamp`] to constant bounds.
+    fn clamp_c(self, lo: f64, hi: f64) -> Self {
+        self.map(|a| a.clamp(lo, hi))
+    }
+    /// [`f64::abs`].
+    fn abs(self) -> Self {
+        self.map(f64::abs)
+    }
+    /// [`f64::sqrt`] (correctly rounded, a vector instruction).
+    fn sqrt(self) -> Self {
+        self.map(f64::sqrt)
+    }
+    /// [`math::exp`].
+    fn exp(self) -> Self {
+        self.map(math::exp)
+    }
+    /// [`math::ln`].
+    fn ln(self) -> Self {
+        self.map(math::ln)
+    }
+    /// [`math::cbrt`].
+    fn cbrt(self) -> Self {
+        self.map(math::cbrt)
+    }
+    /// [`math::pow`]: `self` to the power `y` for a positive base.
+    fn powf(self, y: Self) -> Self {
+        self.zip(y, math::pow)
+    }
+    /// Constant `c` minus `self`.
+    fn rsub(self, c: f64) -> Self {
+        Self::splat(c) - self
+    }
+    /// Constant `c` divided by `self`.
+    fn rdiv(self, c: f64) -> Self {
+        Self::splat(c) / self
+    }
+}
+
+impl Mask for bool {
+    fn splat(b: bool) -> bool {
+        b
+    }
+    fn from_fn(mut f: impl FnMut(usize) -> bool) -> bool {
+        f(0)
+    }
+    fn lane(self, _: usize) -> bool {
+        self
+    }
+    fn any(self) -> bool {
+        self
+    }
+    fn all(self) -> bool {
+        self
+    }
+}
+
+impl Real for f64 {
+    type Mask = bool;
+    const LANES: usize = 1;
+
+    #[inline(always)]
+    fn splat(v: f64) -> f64 {
+        v
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> f64 {
+        f(0)
+    }
+    #[inline(always)]
+    fn lane(self, _: usize) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> f64 {
+        f(self)
+    }
+    #[inline(always)]
+    fn zip(self, o: f64, f: impl Fn(f64, f64) -> f64) -> f64 {
+        f(self, o)
+    }
+    #[inline(always)]
+    fn test(self, o: f64, f: impl Fn(f64, f64) -> bool) -> bool {
+        f(self, o)
+    }
+    #[inline(always)]
+    fn select(m: bool, a: f64, b: f64) -> f64 {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+}
+
+/// One boolean per lane of a [`Lanes`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LaneMask(pub [bool; WIDTH]);
+
+impl BitAnd for LaneMask {
+    type Output = LaneMask;
+    #[inline(always)]
+    fn bitand(self, o: LaneMask) -> LaneMask {
+        LaneMask(std::array::from_fn(|i| self.0[i] & o.0[i]))
+    }
+}
+
+impl BitOr for LaneMask {
+    type Output = LaneMask;
+    #[inline(always)]
+    fn bitor(self, o: LaneMask) -> LaneMask {
+        LaneMask(std::array::from_fn(|i| self.0[i] | o.0[i]))
+    }
+}
+
+impl Not for LaneMask {
+    type Output = LaneMask;
+    #[inline(always)]
+    fn not(self) -> LaneMask {
+        LaneMask(self.0.map(|b| !b))
+    }
+}
+
+impl Mask for LaneMask {
+    fn splat(b: bool) -> LaneMask {
+        LaneMask([b; WIDTH])
+    }
+    fn from_fn(f: impl FnMut(usize) -> bool) -> LaneMask {
+        LaneMask(std::array::from_fn(f))
+    }
+    fn lane(self, i: usize) -> bool {
+        self.0[i]
+    }
+    fn any(self) -> bool {
+        self.0.iter().any(|&b| b)
+    }
+    fn all(self) -> bool {
+        self.0.iter().all(|&b| b)
+    }
+}
+
+/// [`WIDTH`] `f64` lanes, one per instance of a lane group.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(align(32))]
+pub struct Lanes(pub [f64; WIDTH]);
+
+impl Real for Lanes {
+    type Mask = LaneMask;
+    const LANES: usize = WIDTH;
+
+    #[inline(always)]
+    fn splat(v: f64) -> Lanes {
+        Lanes([v; WIDTH])
+    }
+    #[inline(always)]
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Lanes {
+        Lanes(std::array::from_fn(f))
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f64 {
+        self.0[i]
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Lanes {
+        Lanes(std::array::from_fn(|i| f(self.0[i])))
+    }
+    #[inline(always)]
+    fn zip(self, o: Lanes, f: impl Fn(f64, f64) -> f64) -> Lanes {
+        Lanes(std::array::from_fn(|i| f(self.0[i], o.0[i])))
+    }
+    #[inline(always)]
+    fn test(self, o: Lanes, f: impl Fn(f64, f64) -> bool) -> LaneMask {
+        LaneMask(std::array::from_fn(|i| f(self.0[i], o.0[i])))
+    }
+    #[inline(always)]
+    fn select(m: LaneMask, a: Lanes, b: Lanes) -> Lanes {
+        Lanes(std::array::from_fn(
+            |i| if m.0[i] { a.0[i] } else { b.0[i] },
+        ))
+    }
+}
+
+/// Lane-by-lane binary operators, with a `Lanes` or an `f64` on the right.
+macro_rules! lane_ops {
+    ($($tr:ident $f:ident $tra:ident $fa:ident $op:tt;)*) => {$(
+        impl $tr for Lanes {
+            type Output = Lanes;
+            #[inline(always)]
+            fn $f(self, o: Lanes) -> Lanes {
+                Lanes(std::array::from_fn(|i| self.0[i] $op o.0[i]))
+            }
+        }
+        impl $tr<f64> for Lanes {
+            type Output = Lanes;
+            #[inline(always)]
+            fn $f(self, o: f64) -> Lanes {
+                Lanes(std::array::from_fn(|i| self.0[i] $op o))
+            }
+        }
+        impl $tra for Lanes {
+            #[inline(always)]
+            fn $fa(&mut self, o: Lanes) {
+                *self = *self $op o;
+            }
+        }
+    )*};
+}
+
+lane_ops! {
+    Add add AddAssign add_assign +;
+    Sub sub SubAssign sub_assign -;
+    Mul mul MulAssign mul_assign *;
+}
+
+impl Div for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn div(self, o: Lanes) -> Lanes {
+        Lanes(std::array::from_fn(|i| self.0[i] / o.0[i]))
+    }
+}
+
+impl Div<f64> for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn div(self, o: f64) -> Lanes {
+        Lanes(std::array::from_fn(|i| self.0[i] / o))
+    }
+}
+
+impl Neg for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn neg(self) -> Lanes {
+        Lanes(self.0.map(|a| -a))
+    }
+}
+
+/// `c` in every lane (shorthand for [`Real::splat`] in the model's formulas).
+#[inline(always)]
+pub fn c<T: Real>(v: f64) -> T {
+    T::splat(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Lane i of a lane computation equals the same computation in f64, bit for bit.
+    #[test]
+    fn lanes_match_scalar_bit_for_bit() {
+        let xs = Lanes([0.3, -2.5, 1.0e-300, 7.0e5]);
+        let f = |x: f64| math::exp((x * 3.0 - 1.0) / (x.abs() + 2.0)) + math::cbrt(x.abs());
+        let g = |x: Lanes| ((x * 3.0 - 1.0) / (x.abs() + 2.0)).exp() + x.abs().cbrt();
+        let lanes = g(xs);
+        for i in 0..WIDTH {
+            assert_eq!(lanes.lane(i).to_bits(), f(xs.lane(i)).to_bits());
+        }
+        let m = xs.gt(Lanes::splat(0.0));
+        let s = Lanes::select(m, xs, -xs);
+        assert_eq!(s, xs.abs());
+        assert!(m.any() && !m.all());
+    }
+}
