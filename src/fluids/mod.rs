@@ -85,7 +85,7 @@
 mod inverse;
 pub mod table;
 
-use crate::lanes::Real;
+use crate::lanes::{Mask, Real};
 
 pub use table::HELIUM;
 
@@ -142,12 +142,11 @@ impl Fluid {
 
     /// [`FluidProps::t_from_h_l_k`] of this propellant (the same root to rounding), with the
     /// Newton iteration started from the propellant's inverse table: one step, two near t_min_k.
-    /// Lane by lane: the Newton exits differ per lane.
     pub fn t_from_h_l_k<T: Real>(self, h_j_per_kg: T) -> T {
         let table = inverse::hl_inverse(self);
         let (base, h_max) = table.limits();
-        let f = self.props();
-        h_j_per_kg.map(|h| f.invert_h_l(h, base, h_max, |h| table.guess(h)))
+        let start = h_j_per_kg.map(|h| table.guess(h));
+        self.props().invert_h_l(h_j_per_kg, base, h_max, start)
     }
 
     /// The constants and fit coefficients of this propellant (from [`table`]).
@@ -289,8 +288,8 @@ impl FluidProps {
 
     /// Temperature from a normalised temperature, K.
     #[inline]
-    fn t_of(&self, x: f64) -> f64 {
-        self.t_mid() + self.t_half() * x
+    fn t_of<T: Real>(&self, x: T) -> T {
+        x * self.t_half() + self.t_mid()
     }
 
     /// `(ln P_sat, d ln P_sat / dx)` with linear continuation outside `[−1, 1]`,
@@ -435,9 +434,8 @@ impl FluidProps {
     /// the range. Safeguarded Newton iteration converged to 1e-12 relative in T.
     pub fn t_from_h_l_k(&self, h_j_per_kg: f64) -> f64 {
         let (base, h_max) = self.h_l_limits();
-        self.invert_h_l(h_j_per_kg, base, h_max, |h| {
-            (2.0 * h / h_max - 1.0).clamp(-1.0, 1.0)
-        })
+        let start = (2.0 * h_j_per_kg / h_max - 1.0).clamp(-1.0, 1.0);
+        self.invert_h_l(h_j_per_kg, base, h_max, start)
     }
 
     /// The antiderivative of the `c_p,l` fit at x = −1 and `h_l(t_max_k)`, J/kg.
@@ -447,51 +445,45 @@ impl FluidProps {
     }
 
     /// [`Self::t_from_h_l_k`] given [`Self::h_l_limits`], with the Newton iteration started at
-    /// `start(h)`, a normalised temperature in [−1, 1] (used only for 0 < h < h_max).
-    fn invert_h_l(
-        &self,
-        h_j_per_kg: f64,
-        base: f64,
-        h_max: f64,
-        start: impl FnOnce(f64) -> f64,
-    ) -> f64 {
-        if h_j_per_kg.is_nan() {
-            return f64::NAN;
-        }
-        if h_j_per_kg <= 0.0 {
-            return self.t_min_k + h_j_per_kg / poly(&self.cp_l, -1.0);
-        }
-        if h_j_per_kg >= h_max {
-            return self.t_max_k + (h_j_per_kg - h_max) / poly(&self.cp_l, 1.0);
-        }
-        let mut x = start(h_j_per_kg);
-        let (mut lo, mut hi) = (-1.0_f64, 1.0_f64);
+    /// `start`, a normalised temperature in [−1, 1] (used only for 0 < h < h_max). Each lane
+    /// iterates until its own exit; lanes that are done no longer move.
+    fn invert_h_l<T: Real>(&self, h_j_per_kg: T, base: f64, h_max: f64, start: T) -> T {
+        let h = h_j_per_kg;
+        let (cp_lo, cp_hi) = (poly(&self.cp_l, -1.0), poly(&self.cp_l, 1.0));
+        let below = h / cp_lo + self.t_min_k;
+        let above = (h - h_max) / cp_hi + self.t_max_k;
+        let (le0, ge_max, nan) = (
+            h.le(T::splat(0.0)),
+            h.ge(T::splat(h_max)),
+            h.test(h, |a, b| a != b),
+        );
+        let mut x = start;
+        let (mut lo, mut hi) = (T::splat(-1.0), T::splat(1.0));
+        let mut done = le0 | ge_max | nan;
         for _ in 0..MAX_ITER {
-            let f = self.h_l_above(x, base) - h_j_per_kg;
-            if f == 0.0 {
+            if done.all() {
                 break;
             }
-            if f > 0.0 {
-                hi = x;
-            } else {
-                lo = x;
-            }
-            let x_newton = x - f / (self.t_half() * poly(&self.cp_l, x));
-            if ((x_newton - x) * self.t_half()).abs() <= T_FROM_H_TOL * self.t_of(x) {
-                // Newton step below tolerance: accept it (quadratic convergence).
-                x = x_newton.clamp(-1.0, 1.0);
-                break;
-            }
-            x = if x_newton > lo && x_newton < hi {
-                x_newton
-            } else {
-                0.5 * (lo + hi)
-            };
-            if (hi - lo) * self.t_half() <= T_FROM_H_TOL * self.t_of(x) {
-                break;
-            }
+            let f = self.h_l_above(x, base) - h;
+            let zero = f.test(f, |a, _| a == 0.0);
+            let moving = !done & !zero;
+            hi = T::select(moving & f.gt(T::splat(0.0)), x, hi);
+            lo = T::select(moving & f.lt(T::splat(0.0)), x, lo);
+            let x_newton = x - f / (poly(&self.cp_l, x) * self.t_half());
+            // A Newton step below tolerance is accepted (quadratic convergence).
+            let converged = ((x_newton - x) * self.t_half())
+                .abs()
+                .le(self.t_of(x) * T_FROM_H_TOL);
+            let inside = x_newton.gt(lo) & x_newton.lt(hi);
+            let next = T::select(inside, x_newton, (lo + hi) * 0.5);
+            let bracketed = ((hi - lo) * self.t_half()).le(self.t_of(next) * T_FROM_H_TOL);
+            let step = T::select(converged, x_newton.clamp_c(-1.0, 1.0), next);
+            x = T::select(moving, step, x);
+            done = done | zero | (moving & (converged | bracketed));
         }
-        self.t_of(x)
+        let t = T::select(ge_max, above, self.t_of(x));
+        let t = T::select(le0, below, t);
+        T::select(nan, h, t)
     }
 
     /// Latent heat of vaporisation at `t_k` (K), in J/kg (clamped outside the range).

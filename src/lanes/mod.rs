@@ -73,74 +73,92 @@ pub trait Real:
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
 
     /// `self < o`.
+    #[inline(always)]
     fn lt(self, o: Self) -> Self::Mask {
         self.test(o, |a, b| a < b)
     }
     /// `self <= o`.
+    #[inline(always)]
     fn le(self, o: Self) -> Self::Mask {
         self.test(o, |a, b| a <= b)
     }
     /// `self > o`.
+    #[inline(always)]
     fn gt(self, o: Self) -> Self::Mask {
         self.test(o, |a, b| a > b)
     }
     /// `self >= o`.
+    #[inline(always)]
     fn ge(self, o: Self) -> Self::Mask {
         self.test(o, |a, b| a >= b)
     }
     /// Whether the lane is neither infinite nor NaN.
+    #[inline(always)]
     fn is_finite(self) -> Self::Mask {
         self.test(self, |a, _| a.is_finite())
     }
     /// [`f64::max`].
+    #[inline(always)]
     fn max(self, o: Self) -> Self {
         self.zip(o, f64::max)
     }
     /// [`f64::min`].
+    #[inline(always)]
     fn min(self, o: Self) -> Self {
         self.zip(o, f64::min)
     }
     /// [`f64::max`] with a constant.
+    #[inline(always)]
     fn max_c(self, o: f64) -> Self {
         self.map(|a| a.max(o))
     }
     /// [`f64::min`] with a constant.
+    #[inline(always)]
     fn min_c(self, o: f64) -> Self {
         self.map(|a| a.min(o))
     }
     /// [`f64::clamp`] to constant bounds.
+    #[inline(always)]
     fn clamp_c(self, lo: f64, hi: f64) -> Self {
         self.map(|a| a.clamp(lo, hi))
     }
     /// [`f64::abs`].
+    #[inline(always)]
     fn abs(self) -> Self {
         self.map(f64::abs)
     }
     /// [`f64::sqrt`] (correctly rounded, a vector instruction).
+    #[inline(always)]
     fn sqrt(self) -> Self {
         self.map(f64::sqrt)
     }
     /// [`math::exp`].
+    #[inline(always)]
     fn exp(self) -> Self {
         self.map(math::exp)
     }
     /// [`math::ln`].
+    #[inline(always)]
     fn ln(self) -> Self {
         self.map(math::ln)
     }
     /// [`math::cbrt`].
+    #[inline(always)]
     fn cbrt(self) -> Self {
         self.map(math::cbrt)
     }
     /// [`math::pow`]: `self` to the power `y` for a positive base.
+    #[inline(always)]
     fn powf(self, y: Self) -> Self {
         self.zip(y, math::pow)
     }
     /// Constant `c` minus `self`.
+    #[inline(always)]
     fn rsub(self, c: f64) -> Self {
         Self::splat(c) - self
     }
     /// Constant `c` divided by `self`.
+    #[inline(always)]
     fn rdiv(self, c: f64) -> Self {
         Self::splat(c) / self
     }
@@ -202,6 +220,17 @@ impl Real for f64 {
     }
 }
 
+/// An array of `WIDTH` values, lane `i` being `f(i)`: a plain loop, which the compiler inlines
+/// and vectorises (`std::array::from_fn` goes through a closure call per element here).
+#[inline(always)]
+fn lanes_from<V: Copy + Default>(mut f: impl FnMut(usize) -> V) -> [V; WIDTH] {
+    let mut out = [V::default(); WIDTH];
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = f(i);
+    }
+    out
+}
+
 /// One boolean per lane of a [`Lanes`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LaneMask(pub [bool; WIDTH]);
@@ -210,7 +239,7 @@ impl BitAnd for LaneMask {
     type Output = LaneMask;
     #[inline(always)]
     fn bitand(self, o: LaneMask) -> LaneMask {
-        LaneMask(std::array::from_fn(|i| self.0[i] & o.0[i]))
+        LaneMask(lanes_from(|i| self.0[i] & o.0[i]))
     }
 }
 
@@ -218,7 +247,7 @@ impl BitOr for LaneMask {
     type Output = LaneMask;
     #[inline(always)]
     fn bitor(self, o: LaneMask) -> LaneMask {
-        LaneMask(std::array::from_fn(|i| self.0[i] | o.0[i]))
+        LaneMask(lanes_from(|i| self.0[i] | o.0[i]))
     }
 }
 
@@ -226,20 +255,24 @@ impl Not for LaneMask {
     type Output = LaneMask;
     #[inline(always)]
     fn not(self) -> LaneMask {
-        LaneMask(self.0.map(|b| !b))
+        LaneMask(lanes_from(|i| !self.0[i]))
     }
 }
 
 impl Mask for LaneMask {
+    #[inline(always)]
     fn splat(b: bool) -> LaneMask {
         LaneMask([b; WIDTH])
     }
+    #[inline(always)]
     fn from_fn(f: impl FnMut(usize) -> bool) -> LaneMask {
-        LaneMask(std::array::from_fn(f))
+        LaneMask(lanes_from(f))
     }
+    #[inline(always)]
     fn lane(self, i: usize) -> bool {
         self.0[i]
     }
+    #[inline(always)]
     fn any(self) -> bool {
         self.0.iter().any(|&b| b)
     }
@@ -263,7 +296,7 @@ impl Real for Lanes {
     }
     #[inline(always)]
     fn from_fn(f: impl FnMut(usize) -> f64) -> Lanes {
-        Lanes(std::array::from_fn(f))
+        Lanes(lanes_from(f))
     }
     #[inline(always)]
     fn lane(self, i: usize) -> f64 {
@@ -271,21 +304,53 @@ impl Real for Lanes {
     }
     #[inline(always)]
     fn map(self, f: impl Fn(f64) -> f64) -> Lanes {
-        Lanes(std::array::from_fn(|i| f(self.0[i])))
+        Lanes(lanes_from(|i| f(self.0[i])))
     }
     #[inline(always)]
     fn zip(self, o: Lanes, f: impl Fn(f64, f64) -> f64) -> Lanes {
-        Lanes(std::array::from_fn(|i| f(self.0[i], o.0[i])))
+        Lanes(lanes_from(|i| f(self.0[i], o.0[i])))
     }
     #[inline(always)]
     fn test(self, o: Lanes, f: impl Fn(f64, f64) -> bool) -> LaneMask {
-        LaneMask(std::array::from_fn(|i| f(self.0[i], o.0[i])))
+        LaneMask(lanes_from(|i| f(self.0[i], o.0[i])))
+    }
+    // The transcendental kernels are called in plain loops (no closure in between) so that
+    // their inlined bodies sit in the loop the compiler vectorises.
+    #[inline(always)]
+    fn exp(self) -> Lanes {
+        let mut out = self.0;
+        for o in &mut out {
+            *o = math::exp(*o);
+        }
+        Lanes(out)
+    }
+    #[inline(always)]
+    fn ln(self) -> Lanes {
+        let mut out = self.0;
+        for o in &mut out {
+            *o = math::ln(*o);
+        }
+        Lanes(out)
+    }
+    #[inline(always)]
+    fn cbrt(self) -> Lanes {
+        let mut out = self.0;
+        for o in &mut out {
+            *o = math::cbrt(*o);
+        }
+        Lanes(out)
+    }
+    #[inline(always)]
+    fn powf(self, y: Lanes) -> Lanes {
+        let mut out = self.0;
+        for (o, &e) in out.iter_mut().zip(&y.0) {
+            *o = math::pow(*o, e);
+        }
+        Lanes(out)
     }
     #[inline(always)]
     fn select(m: LaneMask, a: Lanes, b: Lanes) -> Lanes {
-        Lanes(std::array::from_fn(
-            |i| if m.0[i] { a.0[i] } else { b.0[i] },
-        ))
+        Lanes(lanes_from(|i| if m.0[i] { a.0[i] } else { b.0[i] }))
     }
 }
 
@@ -296,14 +361,14 @@ macro_rules! lane_ops {
             type Output = Lanes;
             #[inline(always)]
             fn $f(self, o: Lanes) -> Lanes {
-                Lanes(std::array::from_fn(|i| self.0[i] $op o.0[i]))
+                Lanes(lanes_from(|i| self.0[i] $op o.0[i]))
             }
         }
         impl $tr<f64> for Lanes {
             type Output = Lanes;
             #[inline(always)]
             fn $f(self, o: f64) -> Lanes {
-                Lanes(std::array::from_fn(|i| self.0[i] $op o))
+                Lanes(lanes_from(|i| self.0[i] $op o))
             }
         }
         impl $tra for Lanes {
@@ -325,7 +390,7 @@ impl Div for Lanes {
     type Output = Lanes;
     #[inline(always)]
     fn div(self, o: Lanes) -> Lanes {
-        Lanes(std::array::from_fn(|i| self.0[i] / o.0[i]))
+        Lanes(lanes_from(|i| self.0[i] / o.0[i]))
     }
 }
 
@@ -333,7 +398,7 @@ impl Div<f64> for Lanes {
     type Output = Lanes;
     #[inline(always)]
     fn div(self, o: f64) -> Lanes {
-        Lanes(std::array::from_fn(|i| self.0[i] / o))
+        Lanes(lanes_from(|i| self.0[i] / o))
     }
 }
 
@@ -341,7 +406,7 @@ impl Neg for Lanes {
     type Output = Lanes;
     #[inline(always)]
     fn neg(self) -> Lanes {
-        Lanes(self.0.map(|a| -a))
+        Lanes(lanes_from(|i| -self.0[i]))
     }
 }
 
