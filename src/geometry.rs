@@ -53,6 +53,7 @@
 //! The dome ratio is clamped internally to `[1e-6, 1e6]` so that extreme
 //! values cannot underflow/overflow the intermediate quantities.
 
+use crate::lanes::{Mask, Real};
 use std::f64::consts::PI;
 
 /// Smallest dome ratio used internally (larger inputs are unaffected).
@@ -174,7 +175,7 @@ impl Tank {
                 // Half spheroid with semi-axes (R, R, a): (2/3) π R² a.
                 tank.dome_volume = 2.0 / 3.0 * PI * radius * radius * a;
                 tank.volume = 2.0 * tank.dome_volume + disc_area * length;
-                tank.dome_area = tank.zone_area(a);
+                tank.dome_area = tank.lanes().zone_area(a);
                 tank.wall_area = 2.0 * tank.dome_area + 2.0 * PI * radius * length;
             }
         }
@@ -251,7 +252,7 @@ impl Tank {
     /// Liquid volume (m³) below the flat free surface at height `z_m` (m);
     /// `z_m` is clamped to `[0, H]`. Strictly increasing in `z`.
     pub fn liquid_volume_m3(&self, z_m: f64) -> f64 {
-        let z = self.clamp_z(z_m);
+        let z = self.lanes().clamp_z(z_m);
         match self.shape {
             Shape::Cylinder => self.disc_area * z,
             Shape::Capsule | Shape::Sphere => {
@@ -275,67 +276,19 @@ impl Tank {
     /// by bisection; round trips `z(V(z))` are accurate to ~1e-14 relative
     /// (see the module docs for the conditioning limit right at a domed top).
     pub fn liquid_height_m(&self, volume_m3: f64) -> f64 {
-        let v = if volume_m3 > 0.0 {
-            volume_m3.min(self.volume)
-        } else {
-            0.0
-        };
-        match self.shape {
-            Shape::Cylinder => {
-                if v >= self.volume {
-                    self.height
-                } else {
-                    (v / self.disc_area).min(self.height)
-                }
-            }
-            Shape::Capsule | Shape::Sphere => {
-                if v >= self.volume {
-                    return self.height;
-                }
-                if v <= self.dome_volume {
-                    self.a * solve_cap_fraction(2.0 * v / self.dome_volume)
-                } else if v < self.volume - self.dome_volume {
-                    let z = self.a + (v - self.dome_volume) / self.disc_area;
-                    z.max(self.a).min(self.a + self.length)
-                } else {
-                    let dv = self.volume - v;
-                    let w = self.a * solve_cap_fraction(2.0 * dv / self.dome_volume);
-                    (self.height - w).max(0.0)
-                }
-            }
-        }
+        self.lanes().liquid_height_m(volume_m3)
     }
 
     /// Radius (m) of the free surface (the tank's inner radius) at height
     /// `z_m` (m), clamped to `[0, H]`. Zero at the poles of domed shapes.
     pub fn surface_radius_m(&self, z_m: f64) -> f64 {
-        match self.shape {
-            Shape::Cylinder => self.radius,
-            Shape::Capsule | Shape::Sphere => {
-                let w = self.dome_depth(self.clamp_z(z_m));
-                if w >= self.a {
-                    self.radius
-                } else {
-                    (w * (2.0 * self.a - w)).sqrt() / self.k
-                }
-            }
-        }
+        self.lanes().surface_radius_m(z_m)
     }
 
     /// Area (m²) of the flat liquid–vapour interface `π r(z)²` at height
     /// `z_m` (m); drives interfacial heat and mass transfer.
     pub fn interface_area_m2(&self, z_m: f64) -> f64 {
-        match self.shape {
-            Shape::Cylinder => self.disc_area,
-            Shape::Capsule | Shape::Sphere => {
-                let w = self.dome_depth(self.clamp_z(z_m));
-                if w >= self.a {
-                    self.disc_area
-                } else {
-                    PI * w * (2.0 * self.a - w) / (self.k * self.k)
-                }
-            }
-        }
+        self.lanes().interface_area_m2(z_m)
     }
 
     /// Wall area (m²) below height `z_m` (m), including the bottom, i.e. the
@@ -345,27 +298,7 @@ impl Tank {
     /// `z = 0`), and the top disc only when the tank is full (`z ≥ H`), so the
     /// function has a step of `π R²` at `z = H`.
     pub fn wetted_area_m2(&self, z_m: f64) -> f64 {
-        let z = self.clamp_z(z_m);
-        match self.shape {
-            Shape::Cylinder => {
-                if z >= self.height {
-                    self.wall_area
-                } else {
-                    self.disc_area + 2.0 * PI * self.radius * z
-                }
-            }
-            Shape::Capsule | Shape::Sphere => {
-                let z1 = self.a;
-                let z2 = self.a + self.length;
-                if z <= z1 {
-                    self.zone_area(z)
-                } else if z < z2 {
-                    self.dome_area + 2.0 * PI * self.radius * (z - z1)
-                } else {
-                    (self.wall_area - self.zone_area(self.height - z)).max(0.0)
-                }
-            }
-        }
+        self.lanes().wetted_area_m2(z_m)
     }
 
     /// Wall area (m²) above height `z_m` (m), in contact with vapour:
@@ -384,17 +317,7 @@ impl Tank {
     /// `z = H`; the end discs are steps of the wetted area (Dirac terms of
     /// the derivative) and are not included.
     pub fn wetted_area_slope_m(&self, z_m: f64) -> f64 {
-        match self.shape {
-            Shape::Cylinder => 2.0 * PI * self.radius,
-            Shape::Capsule | Shape::Sphere => {
-                let w = self.dome_depth(self.clamp_z(z_m));
-                if w >= self.a {
-                    2.0 * PI * self.radius
-                } else {
-                    2.0 * PI * self.zone_integrand(w) / (self.k * self.k)
-                }
-            }
-        }
+        self.lanes().wetted_area_slope_m(z_m)
     }
 
     /// Horizontal cross-section area (m²) of the tank at height `z_m` (m),
@@ -404,29 +327,6 @@ impl Tank {
         self.interface_area_m2(z_m)
     }
 
-    /// Clamps a height into `[0, H]`; NaN maps to 0.
-    fn clamp_z(&self, z: f64) -> f64 {
-        if z > 0.0 {
-            z.min(self.height)
-        } else {
-            0.0
-        }
-    }
-
-    /// Distance (m) from the nearest pole for a domed shape, capped at `a`
-    /// (anything in the cylindrical part returns `a` or more).
-    fn dome_depth(&self, z: f64) -> f64 {
-        let z1 = self.a;
-        let z2 = self.a + self.length;
-        if z <= z1 {
-            z
-        } else if z < z2 {
-            self.a
-        } else {
-            (self.height - z).max(0.0)
-        }
-    }
-
     /// Volume (m³) of a dome cap of depth `w` (m) measured from the pole:
     /// `π w² (3a − w) / (3k²) = V_dome · t² (3 − t) / 2` with `t = w / a`.
     fn cap_volume(&self, w: f64) -> f64 {
@@ -434,30 +334,172 @@ impl Tank {
         0.5 * self.dome_volume * t * t * (3.0 - t)
     }
 
+    /// This tank as a one-lane [`TankLanes`]: the one implementation of the geometry.
+    fn lanes(&self) -> TankLanes<f64> {
+        TankLanes::gather(|_| self)
+    }
+}
+
+/// The dimensions of one tank per lane (all lanes of the same shape), for the geometry that the
+/// model evaluates in lockstep lanes. [`Tank`]'s methods are this with one lane. Zones become
+/// selects: each lane takes the branch its own level is in.
+#[derive(Clone, Copy, Debug)]
+pub struct TankLanes<T> {
+    shape: Shape,
+    radius: T,
+    length: T,
+    k: T,
+    a: T,
+    e: T,
+    c: T,
+    height: T,
+    volume: T,
+    wall_area: T,
+    dome_volume: T,
+    dome_area: T,
+    disc_area: T,
+}
+
+impl<T: Real> TankLanes<T> {
+    /// Lane `i` is `tank(i)`; every lane must have the shape of lane 0.
+    pub fn gather<'a>(tank: impl Fn(usize) -> &'a Tank) -> TankLanes<T> {
+        let f = |g: fn(&Tank) -> f64| T::from_fn(|i| g(tank(i)));
+        TankLanes {
+            shape: tank(0).shape,
+            radius: f(|t| t.radius),
+            length: f(|t| t.length),
+            k: f(|t| t.k),
+            a: f(|t| t.a),
+            e: f(|t| t.e),
+            c: f(|t| t.c),
+            height: f(|t| t.height),
+            volume: f(|t| t.volume),
+            wall_area: f(|t| t.wall_area),
+            dome_volume: f(|t| t.dome_volume),
+            dome_area: f(|t| t.dome_area),
+            disc_area: f(|t| t.disc_area),
+        }
+    }
+
+    /// Total internal wall area (m²).
+    pub fn wall_area_m2(&self) -> T {
+        self.wall_area
+    }
+
+    /// [`Tank::liquid_height_m`] per lane.
+    pub fn liquid_height_m(&self, volume_m3: T) -> T {
+        let zero = T::splat(0.0);
+        let v = T::select(volume_m3.gt(zero), volume_m3.min(self.volume), zero);
+        let full = v.ge(self.volume);
+        match self.shape {
+            Shape::Cylinder => T::select(full, self.height, (v / self.disc_area).min(self.height)),
+            Shape::Capsule | Shape::Sphere => {
+                // One cap solve per lane: the bottom dome's or the top dome's, whichever holds
+                // the surface (the cylinder lanes ignore it).
+                let bottom = v.le(self.dome_volume);
+                let cap_v = T::select(bottom, v, self.volume - v);
+                let w = self.a * cap_fraction(cap_v * 2.0 / self.dome_volume).0;
+                let cyl = (self.a + (v - self.dome_volume) / self.disc_area)
+                    .max(self.a)
+                    .min(self.a + self.length);
+                let top = (self.height - w).max_c(0.0);
+                let z = T::select(v.lt(self.volume - self.dome_volume), cyl, top);
+                let z = T::select(bottom, w, z);
+                T::select(full, self.height, z)
+            }
+        }
+    }
+
+    /// [`Tank::surface_radius_m`] per lane.
+    pub fn surface_radius_m(&self, z_m: T) -> T {
+        match self.shape {
+            Shape::Cylinder => self.radius,
+            Shape::Capsule | Shape::Sphere => {
+                let w = self.dome_depth(self.clamp_z(z_m));
+                let dome = (w * (self.a * 2.0 - w)).sqrt() / self.k;
+                T::select(w.ge(self.a), self.radius, dome)
+            }
+        }
+    }
+
+    /// [`Tank::interface_area_m2`] per lane.
+    pub fn interface_area_m2(&self, z_m: T) -> T {
+        match self.shape {
+            Shape::Cylinder => self.disc_area,
+            Shape::Capsule | Shape::Sphere => {
+                let w = self.dome_depth(self.clamp_z(z_m));
+                let dome = w * PI * (self.a * 2.0 - w) / (self.k * self.k);
+                T::select(w.ge(self.a), self.disc_area, dome)
+            }
+        }
+    }
+
+    /// [`Tank::wetted_area_m2`] per lane.
+    pub fn wetted_area_m2(&self, z_m: T) -> T {
+        let z = self.clamp_z(z_m);
+        match self.shape {
+            Shape::Cylinder => {
+                let side = self.disc_area + self.radius * (2.0 * PI) * z;
+                T::select(z.ge(self.height), self.wall_area, side)
+            }
+            Shape::Capsule | Shape::Sphere => {
+                let z1 = self.a;
+                let z2 = self.a + self.length;
+                // One zone per lane: the bottom dome's below z1, the top dome's above z2.
+                let bottom = z.le(z1);
+                let zone = self.zone_area(T::select(bottom, z, self.height - z));
+                let cyl = self.dome_area + self.radius * (2.0 * PI) * (z - z1);
+                let top = (self.wall_area - zone).max_c(0.0);
+                T::select(bottom, zone, T::select(z.lt(z2), cyl, top))
+            }
+        }
+    }
+
+    /// [`Tank::wetted_area_slope_m`] per lane.
+    pub fn wetted_area_slope_m(&self, z_m: T) -> T {
+        let side = self.radius * (2.0 * PI);
+        match self.shape {
+            Shape::Cylinder => side,
+            Shape::Capsule | Shape::Sphere => {
+                let w = self.dome_depth(self.clamp_z(z_m));
+                let dome = self.zone_integrand(w) * (2.0 * PI) / (self.k * self.k);
+                T::select(w.ge(self.a), side, dome)
+            }
+        }
+    }
+
+    /// Clamps a height into `[0, H]`; NaN maps to 0.
+    fn clamp_z(&self, z: T) -> T {
+        T::select(z.gt(T::splat(0.0)), z.min(self.height), T::splat(0.0))
+    }
+
+    /// Distance (m) from the nearest pole for a domed shape, capped at `a`
+    /// (anything in the cylindrical part returns `a` or more).
+    fn dome_depth(&self, z: T) -> T {
+        let top = (self.height - z).max_c(0.0);
+        let w = T::select(z.lt(self.a + self.length), self.a, top);
+        T::select(z.le(self.a), z, w)
+    }
+
     /// `√(c² + e s²)` (m) at depth `w` (m) below a pole, i.e. at distance
     /// `s = a − w` from the equator; the wall element is
     /// `dA = (2π / k²) √(c² + e s²) ds`. Evaluated as a sum of positive terms:
     /// directly for oblate domes and as `√(a² + |e| w (2a − w))` (using
     /// `c² + e a² = a²`) for prolate ones.
-    fn zone_integrand(&self, w: f64) -> f64 {
-        if self.e >= 0.0 {
-            let s = self.a - w;
-            (self.c * self.c + self.e * s * s).sqrt()
-        } else {
-            (self.a * self.a - self.e * w * (2.0 * self.a - w)).sqrt()
-        }
+    fn zone_integrand(&self, w: T) -> T {
+        let s = self.a - w;
+        let oblate = (self.c * self.c + self.e * s * s).sqrt();
+        let prolate = (self.a * self.a - self.e * w * (self.a * 2.0 - w)).sqrt();
+        T::select(self.e.ge(T::splat(0.0)), oblate, prolate)
     }
 
     /// Wall area (m²) of a dome zone of depth `w` (m) measured from the pole.
     ///
     /// `(2π/k²) ∫_{a−w}^{a} √(c² + e s²) ds`, evaluated with the
     /// cancellation-free difference form described in the module docs.
-    fn zone_area(&self, w: f64) -> f64 {
+    fn zone_area(&self, w: T) -> T {
         let a = self.a;
-        let w = w.clamp(0.0, a);
-        if w <= 0.0 {
-            return 0.0;
-        }
+        let w = w.max_c(0.0).min(a);
         let s1 = a - w;
         let s2 = a;
         let big1 = self.zone_integrand(w);
@@ -465,26 +507,27 @@ impl Tank {
         let big2 = a;
         let c2 = self.c * self.c;
         // s2² − s1² without cancellation.
-        let ds2 = w * (2.0 * a - w);
+        let ds2 = w * (a * 2.0 - w);
         // ½ (s2 S2 − s1 S1) = ½ (s2² − s1²)(c² + e(s1² + s2²)) / (s2 S2 + s1 S1)
         let term1 = (c2 + self.e * (s1 * s1 + s2 * s2)) / (s2 * big2 + s1 * big1);
         // (c² / 2√|e|) [G(x2) − G(x1)] = ½ (s2² − s1²) c² g(D) / (s2 S1 + s1 S2)
         let cross = s2 * big1 + s1 * big2;
         let d = self.e.abs().sqrt() * ds2 / cross;
-        let g = if self.e > 0.0 {
-            asinh_over_x(d)
-        } else if d < SERIES_LIMIT {
-            asin_over_x(d)
-        } else {
+        let series = d.lt(T::splat(SERIES_LIMIT));
+        let oblate = self.e.gt(T::splat(0.0));
+        let mut g = T::select(oblate, asinh_over_x(d), asin_over_x(d));
+        let steep = !oblate & !series;
+        if steep.any() {
             // asin(D) is ill-conditioned as D → 1 (very prolate domes); use
             // atan2 with cos(asin x2 − asin x1) = (S1 S2 + |e| s1 s2) / c²,
             // a sum of positive terms.
             let cos_d = (big1 * big2 + self.e.abs() * s1 * s2) / c2;
-            d.atan2(cos_d) / d
-        };
+            g = T::select(steep, d.zip(cos_d, f64::atan2) / d, g);
+        }
         let term2 = c2 * g / cross;
-        let integral = 0.5 * ds2 * (term1 + term2);
-        2.0 * PI * integral / (self.k * self.k)
+        let integral = ds2 * 0.5 * (term1 + term2);
+        let area = integral * (2.0 * PI) / (self.k * self.k);
+        T::select(w.le(T::splat(0.0)), T::splat(0.0), area)
     }
 }
 
@@ -493,85 +536,66 @@ impl Tank {
 const SERIES_LIMIT: f64 = 1e-2;
 
 /// `asinh(x) / x` for `x ≥ 0`, accurate to a few ulps (series near 0).
-fn asinh_over_x(x: f64) -> f64 {
-    if x < SERIES_LIMIT {
-        let x2 = x * x;
-        1.0 - x2 * (1.0 / 6.0 - x2 * (3.0 / 40.0 - x2 * (5.0 / 112.0)))
-    } else {
-        // asinh x = ln(1 + x + x² / (1 + √(1 + x²))), accurate for all x ≥ 0.
-        let x2 = x * x;
-        (x + x2 / (1.0 + (1.0 + x2).sqrt())).ln_1p() / x
-    }
+fn asinh_over_x<T: Real>(x: T) -> T {
+    let x2 = x * x;
+    let series = (x2 * (x2 * (x2 * (5.0 / 112.0)).rsub(3.0 / 40.0)).rsub(1.0 / 6.0)).rsub(1.0);
+    // asinh x = ln(1 + x + x² / (1 + √(1 + x²))), accurate for all x ≥ 0, with
+    // ln(1 + y) = ln u − ((u − 1) − y) / u, u = 1 + y (exact to a couple of ulps).
+    let y = x + x2 / ((x2 + 1.0).sqrt() + 1.0);
+    let u = y + 1.0;
+    let log1p = u.ln() - ((u - 1.0) - y) / u;
+    T::select(x.lt(T::splat(SERIES_LIMIT)), series, log1p / x)
 }
 
 /// `asin(x) / x` by its Taylor series, for `0 ≤ x < SERIES_LIMIT`.
-fn asin_over_x(x: f64) -> f64 {
+fn asin_over_x<T: Real>(x: T) -> T {
     let x2 = x * x;
-    1.0 + x2 * (1.0 / 6.0 + x2 * (3.0 / 40.0 + x2 * (5.0 / 112.0)))
+    x2 * (x2 * (x2 * (5.0 / 112.0) + 3.0 / 40.0) + 1.0 / 6.0) + 1.0
 }
 
-/// Solves `t² (3 − t) = q` for `t ∈ [0, 1]` (`q ∈ [0, 2]`, clamped): the
-/// normalised depth of a dome cap holding the fraction `q / 2` of the dome.
+/// Solves `t² (3 − t) = q` for `t ∈ [0, 1]` (`q ∈ [0, 2]`, clamped) in every
+/// lane: the normalised depth of a dome cap holding the fraction `q / 2` of
+/// the dome. Also returns the number of Newton/bisection rounds the slowest lane took.
 ///
 /// Newton's method from the trigonometric (Viète) root, safeguarded by
 /// bisection in the bracket `√(q/3) ≤ t ≤ √(q/2)` (valid because
 /// `2t² ≤ t²(3 − t) ≤ 3t²` on `[0, 1]`). The polynomial is increasing and
 /// convex on `(0, 1)`, so Newton converges quadratically; iterations are
-/// bounded, so the function always terminates.
-fn solve_cap_fraction(q: f64) -> f64 {
-    cap_fraction_steps(q).0
-}
-
-/// [`solve_cap_fraction`] and the number of Newton/bisection steps it took.
-fn cap_fraction_steps(q: f64) -> (f64, usize) {
-    if q.is_nan() || q <= 0.0 {
-        return (0.0, 0);
-    }
-    if q >= 2.0 {
-        return (1.0, 0);
-    }
+/// bounded, so the function always terminates. A lane that has converged no longer moves.
+fn cap_fraction<T: Real>(q: T) -> (T, usize) {
+    let empty = q.test(q, |a, _| a.is_nan() || a <= 0.0);
+    let full = q.ge(T::splat(2.0));
     let mut lo = (q / 3.0).sqrt();
-    let mut hi = (q / 2.0).sqrt().min(1.0);
+    let mut hi = (q / 2.0).sqrt().min_c(1.0);
     // y = 1 − t solves y³ − 3y + 2 − q = 0; with y = 2 cos θ, cos 3θ = q/2 − 1.
-    let theta = (2.0 * PI - (0.5 * q - 1.0).clamp(-1.0, 1.0).acos()) / 3.0;
-    let guess = 1.0 - 2.0 * theta.cos();
-    let mut t = if guess > lo && guess < hi {
-        guess
-    } else {
-        0.5 * (lo + hi)
-    };
-    for step in 1..=100 {
-        let f = t * t * (3.0 - t) - q;
-        if f > 0.0 {
-            hi = t;
-        } else if f < 0.0 {
-            lo = t;
-        } else {
-            return (t, step);
-        }
-        let fp = 3.0 * t * (2.0 - t);
+    let theta = ((q * 0.5 - 1.0).clamp_c(-1.0, 1.0).map(f64::acos).rsub(2.0 * PI)) / 3.0;
+    let guess = (theta.map(f64::cos) * 2.0).rsub(1.0);
+    let mut t = T::select(guess.gt(lo) & guess.lt(hi), guess, (lo + hi) * 0.5);
+    let mut done = empty | full;
+    let mut rounds = 0;
+    while rounds < 100 && !done.all() {
+        rounds += 1;
+        let f = t * t * t.rsub(3.0) - q;
+        let moving = !done & !f.test(f, |a, _| a == 0.0);
+        hi = T::select(moving & f.gt(T::splat(0.0)), t, hi);
+        lo = T::select(moving & f.lt(T::splat(0.0)), t, lo);
+        let fp = t * 3.0 * t.rsub(2.0);
         let newton = t - f / fp;
         // A rounding-level Newton step is convergence, even where it lands on a bracket end
         // (the safeguard below would otherwise bisect away from an already exact root).
-        if (newton - t).abs() <= 2.0 * f64::EPSILON * t {
-            return (newton, step);
-        }
-        let next = if newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if hi - lo <= f64::EPSILON * hi {
-            return (next, step);
-        }
-        t = next;
+        let converged = (newton - t).abs().le(t * (2.0 * f64::EPSILON));
+        let next = T::select(newton.gt(lo) & newton.lt(hi), newton, (lo + hi) * 0.5);
+        let bracketed = (hi - lo).le(hi * f64::EPSILON);
+        t = T::select(moving, T::select(converged, newton, next), t);
+        done = done | !moving | converged | bracketed;
     }
-    (t, 100)
+    let t = T::select(full, T::splat(1.0), t);
+    (T::select(empty, T::splat(0.0), t), rounds)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::cap_fraction_steps;
+    use super::cap_fraction;
 
     /// The Viète start is exact to a few ulps, so Newton confirms it in at most three steps for
     /// every fill (a bisection fallback once took up to 48).
@@ -581,7 +605,7 @@ mod tests {
         let mut worst = 0;
         for i in 1..n {
             let q = 2.0 * i as f64 / n as f64;
-            let (t, steps) = cap_fraction_steps(q);
+            let (t, steps) = cap_fraction(q);
             let residual = (t * t * (3.0 - t) - q).abs();
             assert!(
                 residual <= 8.0 * f64::EPSILON * q.max(1.0),

@@ -164,14 +164,14 @@ pub fn slosh_angle_rate<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> 
 /// and its energy as the waterline moves with the liquid volume rate `dv_liquid_m3_s`.
 pub fn wall_rates<T: Real>(
     g: Group<'_>,
+    tank: &crate::geometry::TankLanes<T>,
     x: &Derived<T>,
     q_wet_w: T,
     q_dry_w: T,
     dv_liquid_m3_s: T,
     ds: &mut State<T>,
 ) {
-    let section =
-        super::derive::tank_at(g, x.level_m, crate::geometry::Tank::cross_section_area_m2);
+    let section = tank.interface_area_m2(x.level_m);
     let dz = dv_liquid_m3_s / section.max_c(1.0e-9);
     let m_wall: T = g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2());
     let cp_wall: T = g.get(|p| p.wall_cp_j_per_kg_k);

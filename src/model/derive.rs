@@ -9,25 +9,19 @@ use super::slosh::{self, MIN_AXIAL_ACCEL};
 use super::state::*;
 use super::Group;
 use crate::fluids::HELIUM;
-use crate::geometry::Tank;
+use crate::geometry::TankLanes;
 use crate::lanes::{c, Mask, Real, WIDTH};
 
 /// Smallest wetted or dry share of the wall mass: keeps both wall nodes finite at 0 % and 100 %.
 pub const MIN_WALL_SHARE: f64 = 1.0e-3;
 
-/// `f` of each lane's tank at that lane's `z` (the geometry branches by zone, so lane by lane).
-#[inline(always)]
-pub fn tank_at<T: Real>(g: Group<'_>, z: T, f: impl Fn(&Tank, f64) -> f64) -> T {
-    T::from_fn(|i| f(&g.lanes()[i].tank, z.lane(i)))
-}
-
 /// Wetted share of the wall area at level `z`, clamped to [MIN_WALL_SHARE, 1 − MIN_WALL_SHARE],
 /// and its slope d(share)/dz, 1/m, zero where the clamp is active.
-pub fn wetted_share<T: Real>(g: Group<'_>, z: T) -> (T, T) {
-    let wall: T = g.get(|p| p.tank.wall_area_m2());
-    let raw = tank_at(g, z, Tank::wetted_area_m2) / wall;
+pub fn wetted_share<T: Real>(tank: &TankLanes<T>, z: T) -> (T, T) {
+    let wall = tank.wall_area_m2();
+    let raw = tank.wetted_area_m2(z) / wall;
     let clamped = raw.le(c(MIN_WALL_SHARE)) | raw.ge(c(1.0 - MIN_WALL_SHARE));
-    let slope = tank_at(g, z, Tank::wetted_area_slope_m) / wall;
+    let slope = tank.wetted_area_slope_m(z) / wall;
     (
         T::select(
             clamped,
@@ -223,6 +217,7 @@ fn flight_state<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, m_tank: T) ->
 /// Slosh parameters from the equivalent cylinder at the current level (MODEL.md §5).
 fn slosh_params<T: Real>(
     g: Group<'_>,
+    tank: &TankLanes<T>,
     v_liquid: T,
     m_liquid: T,
     z: T,
@@ -230,8 +225,7 @@ fn slosh_params<T: Real>(
     nu: T,
 ) -> SloshParams<T> {
     let radius: T = g.get(|p| p.tank.radius_m());
-    let (r, h) =
-        slosh::equivalent_cylinder(tank_at(g, z, Tank::surface_radius_m), v_liquid, radius);
+    let (r, h) = slosh::equivalent_cylinder(tank.surface_radius_m(z), v_liquid, radius);
     let hr = h / r;
     let extra: T = g.get(|p| p.extra_damping);
     let zeta = slosh::wall_damping(nu, r, a_ax, hr) + slosh::baffle_damping(g, r, z) + extra;
@@ -262,17 +256,18 @@ pub fn wall_temperatures<T: Real>(g: Group<'_>, s: &State<T>, wet: T) -> (T, T) 
 }
 
 /// Level-dependent quantities shared by both thermal formulations.
-pub fn fill_level<T: Real>(g: Group<'_>, out: &mut Derived<T>, v_liquid: T) {
-    let z = tank_at(g, v_liquid, Tank::liquid_height_m);
+pub fn fill_level<T: Real>(g: Group<'_>, tank: &TankLanes<T>, out: &mut Derived<T>, v_liquid: T) {
+    let z = tank.liquid_height_m(v_liquid);
     out.level_m = z;
     let floor: T = g.get(|p| 1.0e-6 * p.tank.radius_m().powi(2));
-    out.interface_area_m2 = tank_at(g, z, Tank::interface_area_m2).max(floor);
-    (out.wetted_share, out.wetted_share_slope) = wetted_share(g, z);
+    out.interface_area_m2 = tank.interface_area_m2(z).max(floor);
+    (out.wetted_share, out.wetted_share_slope) = wetted_share(tank, z);
 }
 
 /// Flight and slosh quantities shared by both thermal formulations.
 pub fn motion<T: Real>(
     g: Group<'_>,
+    tank: &TankLanes<T>,
     s: &State<T>,
     d: &Drive<T>,
     out: &mut Derived<T>,
@@ -284,7 +279,7 @@ pub fn motion<T: Real>(
     out.drag_n = drag;
     out.a_ax = a_ax;
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
-    out.slosh = slosh_params(g, v_l, out.m_liquid_kg, out.level_m, a_ax, nu_liquid);
+    out.slosh = slosh_params(g, tank, v_l, out.m_liquid_kg, out.level_m, a_ax, nu_liquid);
 }
 
 fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
@@ -301,9 +296,10 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T>
     out.v_bulk_m3 = s[M_B] / out.rho_bulk;
     out.m_liquid_kg = s[M_S] + s[M_B];
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
-    fill_level(g, &mut out, v_l);
+    let tank = g.tank();
+    fill_level(g, &tank, &mut out, v_l);
     let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
-    motion(g, s, d, &mut out, nu);
+    motion(g, &tank, s, d, &mut out, nu);
     let (v_tank, c_v): (T, T) = (
         g.get(|p| p.tank.volume_m3()),
         g.get(|p| p.coupling.volume_m3),

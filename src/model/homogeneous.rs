@@ -80,7 +80,8 @@ pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
         ..Default::default()
     };
     let v_l = out.v_bulk_m3;
-    fill_level(g, &mut out, v_l);
+    let tank = g.tank();
+    fill_level(g, &tank, &mut out, v_l);
     let v_tank: T = g.get(|p| p.tank.volume_m3());
     out.v_ullage_m3 = v_tank - out.v_bulk_m3;
     out.p_vapor_pa = f.psat_pa(t);
@@ -88,7 +89,7 @@ pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
     let (twd, tww) = wall_temperatures(g, s, out.wetted_share);
     out.t_wall_dry_k = twd;
     out.t_wall_wet_k = tww;
-    motion(g, s, d, &mut out, f.mu_l_pa_s(t) / rho);
+    motion(g, &tank, s, d, &mut out, f.mu_l_pa_s(t) / rho);
     out
 }
 
@@ -136,7 +137,7 @@ pub fn rhs<T: Real>(
     boundary::motion_rates(g, s, d, x, ds);
 
     // Level motion for the wall hand-over (vapour share neglected).
-    boundary::wall_rates(g, x, q_wl, q_wu, ds[M_B] / rho, ds);
+    boundary::wall_rates(g, &g.tank(), x, q_wl, q_wu, ds[M_B] / rho, ds);
     boundary::boundary_ledger(&b, h_press, h_u, b.out_kg_s * h_l, ds);
     b
 }

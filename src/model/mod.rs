@@ -14,6 +14,7 @@ pub mod slosh;
 pub mod state;
 pub mod thermal;
 
+use crate::geometry::TankLanes;
 use crate::lanes::{Mask, Real};
 use derive::{Derived, Drive};
 use nodes::Fluxes;
@@ -46,6 +47,11 @@ impl<'a> Group<'a> {
     /// Every lane's parameters.
     pub fn lanes(&self) -> &'a [Params] {
         self.0
+    }
+
+    /// Each lane's tank.
+    pub fn tank<T: Real>(&self) -> TankLanes<T> {
+        TankLanes::gather(|i| &self.0[i].tank)
     }
 
     /// A number of each lane's parameters.

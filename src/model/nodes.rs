@@ -5,12 +5,11 @@
 //! mass and energy are conserved by construction.
 
 use super::boundary::{self, BoundaryFlows};
-use super::derive::{tank_at, Derived, Drive};
+use super::derive::{Derived, Drive};
 use super::state::*;
 use super::thermal::{self, ConvectionProps};
 use super::Group;
 use crate::fluids::HELIUM;
-use crate::geometry::Tank;
 use crate::lanes::{c, Real};
 use std::f64::consts::PI;
 
@@ -178,7 +177,8 @@ pub fn rhs<T: Real>(
     let off = vapor_enthalpy_offset(p0.fluid);
     let (t_u, t_s, t_b) = (x.t_ullage_k, x.t_layer_k, x.t_bulk_k);
     let a_i = x.interface_area_m2;
-    let r_surf = tank_at(g, x.level_m, Tank::surface_radius_m).max_c(1.0e-3);
+    let tank = g.tank();
+    let r_surf = tank.surface_radius_m(x.level_m).max_c(1.0e-3);
     let a_tot: T = g.get(|p| p.tank.wall_area_m2());
     let dry_share = x.wetted_share.rsub(1.0);
     let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * dry_share);
@@ -204,7 +204,7 @@ pub fn rhs<T: Real>(
     let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_bulk);
     let q_wl = ua_wl * (x.t_wall_wet_k - t_b);
     let depth = x.v_layer_m3 / a_i;
-    let a_below = tank_at(g, x.level_m - depth, Tank::wetted_area_m2);
+    let a_below = tank.wetted_area_m2(x.level_m - depth);
     let a_ws = (a_wet - a_below).max_c(0.0).min(a_wet);
     let contact = a_ws / a_wet.max_c(1.0e-12);
     // Optionally the wall boundary layer lifts part of the bulk's share to the surface.
@@ -281,7 +281,7 @@ pub fn rhs<T: Real>(
         + pu * (dv_s + dv_b)
         - pu * dv_slosh;
 
-    boundary::wall_rates(g, x, q_wl, q_wu, dv_s + dv_b, ds);
+    boundary::wall_rates(g, &tank, x, q_wl, q_wu, dv_s + dv_b, ds);
     boundary::boundary_ledger(&b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     ds[E_WORK] = -pu * dv_slosh;
 
