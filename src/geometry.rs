@@ -568,7 +568,11 @@ fn cap_fraction<T: Real>(q: T) -> (T, usize) {
     let mut lo = (q / 3.0).sqrt();
     let mut hi = (q / 2.0).sqrt().min_c(1.0);
     // y = 1 − t solves y³ − 3y + 2 − q = 0; with y = 2 cos θ, cos 3θ = q/2 − 1.
-    let theta = ((q * 0.5 - 1.0).clamp_c(-1.0, 1.0).map(f64::acos).rsub(2.0 * PI)) / 3.0;
+    let theta = ((q * 0.5 - 1.0)
+        .clamp_c(-1.0, 1.0)
+        .map(f64::acos)
+        .rsub(2.0 * PI))
+        / 3.0;
     let guess = (theta.map(f64::cos) * 2.0).rsub(1.0);
     let mut t = T::select(guess.gt(lo) & guess.lt(hi), guess, (lo + hi) * 0.5);
     let mut done = empty | full;

@@ -92,7 +92,10 @@ pub fn vapor_enthalpy_offset_of(f: &FluidProps) -> f64 {
 fn initial_level(p: &Params) -> (f64, f64) {
     let v_l = p.fill_fraction * p.tank.volume_m3();
     let z = p.tank.liquid_height_m(v_l);
-    (z, super::derive::wetted_share(&super::Group::one(p).tank(), z).0)
+    (
+        z,
+        super::derive::wetted_share(&super::Group::one(p).tank(), z).0,
+    )
 }
 
 /// The initial state: liquid at `liquid_temperature_k`, ullage at the initial pressure (vapour at

@@ -37,8 +37,8 @@ pub fn h_vertical_wall<T: Real>(p: &ConvectionProps<T>, accel: T, dt_k: T, lengt
     let length = length_m.max_c(1.0e-3);
     let (ra, pr) = rayleigh(p, accel, dt_k, length);
     let f = (pr.rdiv(0.492).powf(c(9.0 / 16.0)) + 1.0).powf(c(8.0 / 27.0));
-    // Ra^(1/6) as cbrt(√Ra): two cheap roots instead of a general power.
-    let nu = ra.sqrt().cbrt() * 0.387 / f + 0.825;
+    // Ra^(1/6) = exp(ln Ra / 6): both branch-free lane kernels (Ra = 0 gives 0).
+    let nu = (ra.ln() * (1.0 / 6.0)).exp() * 0.387 / f + 0.825;
     nu * nu * p.k / length
 }
 
@@ -61,7 +61,7 @@ pub fn h_unstable_interface<T: Real>(
 ) -> T {
     let length = length_m.max_c(1.0e-3);
     let (ra, _) = rayleigh(p, accel, dt_unstable_k.max_c(0.0), length);
-    ra.cbrt() * 0.15 * p.k / length
+    (ra.ln() * (1.0 / 3.0)).exp() * 0.15 * p.k / length
 }
 
 /// Linearly implicit limiter for a stiff exchange between two heat capacities: the conductance
