@@ -5,8 +5,8 @@
 //! Guaranteed: instance i's inputs and results depend only on (campaign, seed, total, i), so the
 //! CPU backend is bit-identical for any thread count, block size and shard split; the GPU backend
 //! (`crate::gpu::engine`) is deterministic run to run and within 1e-3 of the CPU (docs/GPU.md).
-//! Traded away (for now): the CPU backend integrates one instance per task with the scalar f64
-//! model, not in lockstep SIMD lanes.
+//! The CPU backend integrates lane groups of [`crate::lanes::WIDTH`] instances in lockstep
+//! (`simulate::simulate_lanes`), bit-identical to integrating each alone.
 
 mod cpu;
 
