@@ -563,7 +563,7 @@ fn asin_over_x<T: Real>(x: T) -> T {
 /// convex on `(0, 1)`, so Newton converges quadratically; iterations are
 /// bounded, so the function always terminates. A lane that has converged no longer moves.
 fn cap_fraction<T: Real>(q: T) -> (T, usize) {
-    let empty = q.test(q, |a, _| a.is_nan() || a <= 0.0);
+    let empty = q.is(|a| a.is_nan() || a <= 0.0);
     let full = q.ge(T::splat(2.0));
     let mut lo = (q / 3.0).sqrt();
     let mut hi = (q / 2.0).sqrt().min_c(1.0);
@@ -580,7 +580,7 @@ fn cap_fraction<T: Real>(q: T) -> (T, usize) {
     while rounds < 100 && !done.all() {
         rounds += 1;
         let f = t * t * t.rsub(3.0) - q;
-        let moving = !done & !f.test(f, |a, _| a == 0.0);
+        let moving = !done & !f.is(|a| a == 0.0);
         hi = T::select(moving & f.gt(T::splat(0.0)), t, hi);
         lo = T::select(moving & f.lt(T::splat(0.0)), t, lo);
         let fp = t * 3.0 * t.rsub(2.0);

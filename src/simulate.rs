@@ -382,10 +382,11 @@ struct LaneRun<'a> {
     reuse: bool,
     done: bool,
     tracker: Tracker,
-    /// The last state that passed the checks, its evaluation, and the final state.
+    /// The last state that passed the checks and its evaluation.
     last_state: State,
     last: Evaluation,
-    end_state: State,
+    /// The state that failed the checks, if one did: the instance ends there.
+    diverged_state: Option<State>,
     next_sample: f64,
 }
 
@@ -414,7 +415,7 @@ impl<'a> LaneRun<'a> {
             tracker,
             last_state: s0,
             last: ev0,
-            end_state: s0,
+            diverged_state: None,
             next_sample: c.output_interval_s,
         }
     }
@@ -446,7 +447,7 @@ impl<'a> LaneRun<'a> {
             let q = &mut self.tracker.summary;
             q.diverged = true;
             q.diverged_reason = Some(format!("{reason} at t = {t:.3} s in phase {name}"));
-            self.end_state = *s;
+            self.diverged_state = Some(*s);
             self.done = true;
             return false;
         }
@@ -466,7 +467,6 @@ impl<'a> LaneRun<'a> {
         }
         self.last_state = *s;
         self.last = *ev;
-        self.end_state = *s;
         self.k += 1;
         if phase_end {
             if self.phase + 1 == self.campaign.phases.len() {
@@ -489,7 +489,7 @@ impl<'a> LaneRun<'a> {
             &self.s0,
             m_vapor0,
             self.t,
-            &self.end_state,
+            self.diverged_state.as_ref().unwrap_or(&self.last_state),
             &self.last.derived,
             self.steps,
         )

@@ -455,7 +455,7 @@ impl FluidProps {
         let (le0, ge_max, nan) = (
             h.le(T::splat(0.0)),
             h.ge(T::splat(h_max)),
-            h.test(h, |a, b| a != b),
+            h.is(f64::is_nan),
         );
         let mut x = start;
         let (mut lo, mut hi) = (T::splat(-1.0), T::splat(1.0));
@@ -465,7 +465,7 @@ impl FluidProps {
                 break;
             }
             let f = self.h_l_above(x, base) - h;
-            let zero = f.test(f, |a, _| a == 0.0);
+            let zero = f.is(|a| a == 0.0);
             let moving = !done & !zero;
             hi = T::select(moving & f.gt(T::splat(0.0)), x, hi);
             lo = T::select(moving & f.lt(T::splat(0.0)), x, lo);

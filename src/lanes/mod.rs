@@ -92,10 +92,10 @@ pub trait Real:
     fn ge(self, o: Self) -> Self::Mask {
         self.test(o, |a, b| a >= b)
     }
-    /// Whether the lane is neither infinite nor NaN.
+    /// `f` applied to every lane, giving a mask.
     #[inline(always)]
-    fn is_finite(self) -> Self::Mask {
-        self.test(self, |a, _| a.is_finite())
+    fn is(self, f: impl Fn(f64) -> bool) -> Self::Mask {
+        self.test(self, |a, _| f(a))
     }
     /// [`f64::max`].
     #[inline(always)]

@@ -3,7 +3,7 @@
 
 use super::derive::{Derived, Drive};
 use super::flight::{self, G0};
-use super::params::Fidelity;
+use super::params::{Fidelity, Params};
 use super::state::*;
 use super::thermal;
 use super::Group;
@@ -173,7 +173,7 @@ pub fn wall_rates<T: Real>(
 ) {
     let section = tank.interface_area_m2(x.level_m);
     let dz = dv_liquid_m3_s / section.max_c(1.0e-9);
-    let m_wall: T = g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2());
+    let m_wall: T = g.get(Params::wall_mass_kg);
     let cp_wall: T = g.get(|p| p.wall_cp_j_per_kg_k);
     let dshare = x.wetted_share_slope * dz;
     let t_moving = T::select(dshare.lt(c(0.0)), x.t_wall_wet_k, x.t_wall_dry_k);

@@ -4,7 +4,7 @@
 //! exactly what the physics saw.
 
 use super::flight::{self, PhaseKind};
-use super::params::Fidelity;
+use super::params::{Fidelity, Params};
 use super::slosh::{self, MIN_AXIAL_ACCEL};
 use super::state::*;
 use super::Group;
@@ -250,8 +250,7 @@ pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
 
 /// Wall temperatures from the wall energies and the wetted share.
 pub fn wall_temperatures<T: Real>(g: Group<'_>, s: &State<T>, wet: T) -> (T, T) {
-    let mc: T =
-        g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2() * p.wall_cp_j_per_kg_k);
+    let mc: T = g.get(Params::wall_heat_capacity_j_per_k);
     (s[E_WD] / (mc * wet.rsub(1.0)), s[E_WW] / (mc * wet))
 }
 

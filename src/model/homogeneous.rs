@@ -8,6 +8,7 @@
 
 use super::boundary;
 use super::derive::{fill_level, motion, wall_temperatures, Derived, Drive};
+use super::params::Params;
 use super::state::*;
 use super::thermal;
 use super::Group;
@@ -114,8 +115,7 @@ pub fn rhs<T: Real>(
     let m_u = x.m_vapor_kg + s[M_G];
     let (h_wl, h_wu) = super::nodes::wall_coefficients(g, x, &liq, &gas, t, t);
     // The fluid's heat capacity is far larger than a wall node's: the wall side limits the step.
-    let c_wall: T =
-        g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2() * p.wall_cp_j_per_kg_k);
+    let c_wall: T = g.get(Params::wall_heat_capacity_j_per_k);
     let c_fluid = x.m_liquid_kg * liq.cp + m_u * f.cv_vapor_j_per_kg_k;
     let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_fluid);
     let ua_wu = thermal::limited_conductance(h_wu * a_dry, dt, c_wall * dry_share, c_fluid);

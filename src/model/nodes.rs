@@ -6,6 +6,7 @@
 
 use super::boundary::{self, BoundaryFlows};
 use super::derive::{Derived, Drive};
+use super::params::Params;
 use super::state::*;
 use super::thermal::{self, ConvectionProps};
 use super::Group;
@@ -179,7 +180,7 @@ pub fn rhs<T: Real>(
     let a_i = x.interface_area_m2;
     let tank = g.tank();
     let r_surf = tank.surface_radius_m(x.level_m).max_c(1.0e-3);
-    let a_tot: T = g.get(|p| p.tank.wall_area_m2());
+    let a_tot = tank.wall_area_m2();
     let dry_share = x.wetted_share.rsub(1.0);
     let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * dry_share);
     let speed = boundary::slosh_speed(g, s, x);
@@ -197,8 +198,7 @@ pub fn rhs<T: Real>(
     // the share of the wetted band it touches (MODEL.md §4): the layer the band between the
     // interface and its own depth, the bulk the rest. A single wall node at the bulk temperature
     // must not cool the warmer layer through that band, hence the flux split, not h (T_w − T_s).
-    let c_wall: T =
-        g.get(|p| p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2() * p.wall_cp_j_per_kg_k);
+    let c_wall: T = g.get(Params::wall_heat_capacity_j_per_k);
     let c_bulk = s[M_B].max_c(1.0e-9) * liq.cp;
     let c_gas = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
     let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_bulk);

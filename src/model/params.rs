@@ -180,6 +180,16 @@ pub struct Params {
 }
 
 impl Params {
+    /// Mass of the tank wall, kg.
+    pub fn wall_mass_kg(&self) -> f64 {
+        self.wall_areal_mass_kg_per_m2 * self.tank.wall_area_m2()
+    }
+
+    /// Heat capacity of the tank wall, J/K.
+    pub fn wall_heat_capacity_j_per_k(&self) -> f64 {
+        self.wall_mass_kg() * self.wall_cp_j_per_kg_k
+    }
+
     /// Whether `other` can share a lane group with `self`: the same level, propellant and tank
     /// shape, and the same optional systems and closures present (their numbers may differ).
     pub fn lane_compatible(&self, other: &Params) -> bool {

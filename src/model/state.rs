@@ -136,7 +136,7 @@ pub fn initial_state(p: &Params) -> State {
         }
     }
     let (_, wet) = initial_level(p);
-    let m_wall = p.wall_areal_mass_kg_per_m2 * p.tank.wall_area_m2();
+    let m_wall = p.wall_mass_kg();
     s[E_WD] = m_wall * (1.0 - wet) * p.wall_cp_j_per_kg_k * t_l;
     s[E_WW] = m_wall * wet * p.wall_cp_j_per_kg_k * t_l;
     s[VEL] = p.vehicle.initial_velocity_m_s;
