@@ -3,7 +3,7 @@
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use cryoslosh::campaign::{Campaign, CampaignError};
+use cryoslosh::campaign::{Campaign, CampaignError, Integrator};
 use cryoslosh::engine::{Backend, CpuEngine};
 use cryoslosh::gpu::context::{self, GpuError};
 use cryoslosh::gpu::engine::GpuEngine;
@@ -122,6 +122,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Check { campaign, set } => {
             let c = Campaign::load(&campaign, &set)?;
             print!("{}", cryoslosh::campaign::describe(&c));
+            print!("{}", simulate::plan::describe_step_plan(&c));
             Ok(())
         }
         Command::Simulate {
@@ -195,7 +196,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     ))
                 })?,
             };
-            let backend = select_backend(&backend, threads)?;
+            let backend = select_backend(&backend, threads, c.stepping.integrator)?;
             let opts = RunOptions {
                 out_dir: out,
                 instances: instances.unwrap_or(c.instances),
@@ -229,11 +230,19 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 }
 
 /// The engine for `--backend`: `gpu` opens any adapter (software included) or fails with exit
-/// code 2; `auto` takes a hardware GPU when one opens, else the CPU.
-fn select_backend(name: &str, threads: usize) -> anyhow::Result<Backend> {
+/// code 2; `auto` takes a hardware GPU when one opens, else the CPU. The GPU integrates with
+/// fixed-step RK4 only: an adaptive campaign on `gpu` exits 2, on `auto` takes the CPU.
+fn select_backend(name: &str, threads: usize, integrator: Integrator) -> anyhow::Result<Backend> {
     let gpu = |hardware_only: bool| context::open(hardware_only).and_then(GpuEngine::new);
+    let adaptive = integrator != Integrator::Rk4;
     match name {
         "cpu" => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
+        "gpu" if adaptive => Err(BadInput(format!(
+            "--backend gpu: {}",
+            cryoslosh::gpu::engine::ADAPTIVE_ON_GPU
+        ))
+        .into()),
+        "auto" if adaptive => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
         "gpu" => match gpu(false) {
             Ok(e) => Ok(Backend::Gpu(Box::new(e))),
             Err(e @ GpuError::NoAdapter) => Err(BadInput(format!("--backend gpu: {e}")).into()),

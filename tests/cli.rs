@@ -52,6 +52,57 @@ fn out_of_range_values_name_key_and_range() {
     );
 }
 
+/// A fixed RK4 step that resolves the excitation or slosh period with fewer than 20 steps is
+/// refused naming the key that set it (issue 11: LOX `dt_s = 0.4` ran and halved the boil-off).
+#[test]
+fn coarse_fixed_step_is_refused_naming_the_key() {
+    let lox = campaign_path("lox_ascent");
+    let o = cryoslosh(&["check", lox.to_str().unwrap(), "--set", "campaign.dt_s=0.4"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("campaign.dt_s") && err.contains("excitation period"),
+        "{err}"
+    );
+    rejects("phases.1.dt_s=0.3", "phases.1.dt_s");
+    rejects("campaign.integrator=euler", "campaign.integrator");
+    rejects("campaign.rtol=0", "campaign.rtol");
+    // The campaign may say it knows, or integrate adaptively instead.
+    for set in [
+        "campaign.allow_coarse_step=true",
+        "campaign.integrator=dopri5",
+    ] {
+        let o = cryoslosh(&[
+            "check",
+            lox.to_str().unwrap(),
+            "--set",
+            "campaign.dt_s=0.4",
+            "--set",
+            set,
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{set}: {}", stderr(&o));
+    }
+}
+
+/// `check` prints the step plan: steps per period and the nominal's measured cost.
+#[test]
+fn check_prints_the_step_plan() {
+    let lox = campaign_path("lox_ascent");
+    for integrator in ["rk4", "dopri5"] {
+        let o = cryoslosh(&[
+            "check",
+            lox.to_str().unwrap(),
+            "--set",
+            &format!("campaign.integrator={integrator}"),
+        ]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert!(out.contains("step plan:"), "{out}");
+        assert!(out.contains("excitation period 0.8333 s"), "{out}");
+        assert!(out.contains("right-hand-side evaluations"), "{out}");
+    }
+}
+
 #[test]
 fn nan_and_infinity_are_rejected() {
     rejects("tank.heat_leak_w=nan", "tank.heat_leak_w");

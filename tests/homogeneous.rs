@@ -1,29 +1,14 @@
 //! The homogeneous level reproduces the textbook closed-tank pressure-rise rate (MODEL.md §4):
 //! with specific volume v = V/M fixed, the quality x = (v − v_l)/(v_v − v_l) and the specific
 //! energy u = u_l + x (u_v − u_l) are functions of T alone, so M du/dT · dT/dt = Q and
-//! dP/dt = P_sat'(T) dT/dt — written here with analytic derivatives, independently of the model.
+//! dP/dt = P_sat'(T) dT/dt — written with analytic derivatives in `common::mixture_du_dt`,
+//! independently of the model.
 
 mod common;
+use common::mixture_du_dt;
 use cryoslosh::campaign::Campaign;
-use cryoslosh::fluids::Fluid;
-use cryoslosh::model::state::vapor_enthalpy_offset;
 use cryoslosh::simulate::{simulate, History};
 use std::path::Path;
-
-/// du/dT of the saturated two-phase mixture at temperature t, J/(kg·K), per the closed form.
-fn mixture_du_dt(fluid: Fluid, v: f64, t: f64) -> f64 {
-    let f = fluid.props();
-    let r = f.r_specific_j_per_kg_k();
-    let (p, dp) = (f.psat_pa(t), f.dpsat_dt_pa_per_k(t));
-    let rho = f.rho_l_kg_per_m3(t);
-    let (vl, dvl) = (1.0 / rho, -f.drho_l_dt(t) / (rho * rho));
-    let (vv, dvv) = (r * t / p, r / p - r * t * dp / (p * p));
-    let x = (v - vl) / (vv - vl);
-    let dx = (-dvl * (vv - vl) - (v - vl) * (dvv - dvl)) / ((vv - vl) * (vv - vl));
-    let ul = f.h_l_j_per_kg(t);
-    let uv = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(fluid);
-    f.cp_l_j_per_kg_k(t) + dx * (uv - ul) + x * (f.cv_vapor_j_per_kg_k - f.cp_l_j_per_kg_k(t))
-}
 
 #[test]
 fn closed_tank_pressure_rise_matches_closed_form() {

@@ -122,3 +122,36 @@ fn a_diverging_lane_leaves_the_others_exact() {
         first.iter().map(|r| r.summary.diverged).collect::<Vec<_>>()
     );
 }
+
+/// Under error control every lane keeps its own step length and rejects on its own; a lane
+/// group still equals one-at-a-time integration bit for bit, valve events included (the LCH4
+/// coast vents three times per instance).
+#[test]
+fn adaptive_lane_groups_equal_one_at_a_time() {
+    for (name, level) in [
+        ("lh2_upper_stage", "lumped"),
+        ("lox_ascent", "two_mode"),
+        ("lch4_coast", "lumped"),
+        ("mhtb_selfpress", "homogeneous"),
+    ] {
+        let c = load(
+            name,
+            &[
+                &format!("campaign.fidelity={level}"),
+                "campaign.integrator=dopri5",
+            ],
+        );
+        let plan = Plan {
+            campaign: &c,
+            seed: 3,
+            total: 6,
+        };
+        let records = assert_lanes_match(&format!("{name}/{level} dopri5"), &plan, 6);
+        let mut steps: Vec<u64> = records.iter().map(|r| r.summary.steps).collect();
+        steps.dedup();
+        assert!(
+            steps.len() > 1,
+            "{name}: lanes should differ in step count: {steps:?}"
+        );
+    }
+}

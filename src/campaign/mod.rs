@@ -4,6 +4,7 @@
 mod describe;
 pub mod dispersion;
 mod raw;
+pub mod steps;
 mod table;
 mod validate;
 
@@ -51,6 +52,46 @@ pub enum CampaignError {
     },
 }
 
+/// Default relative tolerance of the adaptive integrator (`campaign.rtol`).
+pub const DEFAULT_RTOL: f64 = 1.0e-6;
+/// Default absolute tolerance of the adaptive integrator (`campaign.atol`), a fraction of each
+/// state slot's reference scale (`simulate::tolerance`).
+pub const DEFAULT_ATOL: f64 = 1.0e-9;
+
+/// Which integrator advances the state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    /// Dormand–Prince 5(4) with error control per instance (CPU backend).
+    Dopri5,
+    /// Classical fourth-order Runge–Kutta with the phases' fixed `dt_s` (the default).
+    Rk4,
+}
+
+impl Integrator {
+    /// Campaign spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Dopri5 => "dopri5",
+            Integrator::Rk4 => "rk4",
+        }
+    }
+}
+
+/// The `[campaign]` integrator settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stepping {
+    pub integrator: Integrator,
+    /// Relative tolerance on every state slot.
+    pub rtol: f64,
+    /// Absolute tolerance as a fraction of each slot's reference scale.
+    pub atol: f64,
+    /// Campaign-wide longest adaptive step, s (`INFINITY`: none).
+    pub max_step_s: f64,
+    /// The campaign accepts a fixed RK4 step that resolves a slosh or excitation period with
+    /// fewer than [`crate::simulate::MIN_STEPS_PER_PERIOD`] steps.
+    pub allow_coarse_step: bool,
+}
+
 /// A validated campaign: the physics parameters, the trajectory and the run settings.
 #[derive(Clone, Debug)]
 pub struct Campaign {
@@ -63,6 +104,8 @@ pub struct Campaign {
     pub phases: Vec<Phase>,
     /// Time-history sampling interval, s.
     pub output_interval_s: f64,
+    /// How the phases are integrated.
+    pub stepping: Stepping,
     /// Dispersion-campaign size (used by `run`).
     pub instances: u64,
     /// Random seed (used by `run`).
@@ -125,6 +168,7 @@ impl Campaign {
             }
         })?;
         let mut c = validate::validate(&raw, path, resolved)?;
+        steps::check_fixed_step(&c, &raw)?;
         doc.remove("dispersions");
         if let Some(d) = &raw.dispersions {
             let checker = validate::Checker { file: path };

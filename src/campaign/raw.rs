@@ -37,6 +37,11 @@ pub struct RawRun {
     pub output_interval_s: Option<f64>,
     pub instances: Option<u64>,
     pub seed: Option<u64>,
+    pub integrator: Option<String>,
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    pub max_step_s: Option<f64>,
+    pub allow_coarse_step: Option<bool>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize)]
@@ -155,6 +160,7 @@ pub struct RawPhase {
     pub kind: String,
     pub duration_s: f64,
     pub dt_s: Option<f64>,
+    pub max_step_s: Option<f64>,
     pub thrust_n: Option<f64>,
     pub flight_path_angle_deg: Option<f64>,
     pub gravity_m_s2: Option<f64>,

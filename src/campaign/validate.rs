@@ -2,7 +2,7 @@
 //! error messages. Nothing downstream re-validates.
 
 use super::raw::*;
-use super::{Campaign, CampaignError};
+use super::{Campaign, CampaignError, Integrator, Stepping, DEFAULT_ATOL, DEFAULT_RTOL};
 use crate::fluids::Fluid;
 use crate::geometry::{Shape, Tank};
 use crate::model::flight::{Excitation, Phase, PhaseKind, G0};
@@ -91,6 +91,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         }
     };
     let dt_default = c.opt_range("campaign.dt_s", run.dt_s, 0.1, 1.0e-5, 3600.0)?;
+    let stepping = stepping(&c, run)?;
     let output_interval_s = c.opt_range(
         "campaign.output_interval_s",
         run.output_interval_s,
@@ -443,7 +444,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         .phases
         .iter()
         .enumerate()
-        .map(|(i, ph)| phase(&c, i, ph, dt_default, dir))
+        .map(|(i, ph)| phase(&c, i, ph, dt_default, stepping.max_step_s, dir))
         .collect::<Result<Vec<_>, _>>()?;
 
     let params = Params {
@@ -478,6 +479,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         params,
         phases,
         output_interval_s,
+        stepping,
         instances: run.instances.unwrap_or(1000),
         seed: run.seed.unwrap_or(0),
         initial_slosh_angle_rad: initial_angle_rad,
@@ -503,11 +505,30 @@ fn aluminium_cp(t: f64) -> f64 {
     (CP[i - 1].ln() * (1.0 - w) + CP[i].ln() * w).exp()
 }
 
+/// The `[campaign]` integrator settings.
+fn stepping(c: &Checker, run: &RawRun) -> Result<Stepping, CampaignError> {
+    let integrator = match run.integrator.as_deref().unwrap_or("rk4") {
+        "dopri5" => Integrator::Dopri5,
+        "rk4" => Integrator::Rk4,
+        other => return Err(c.err("campaign.integrator", other, "dopri5 | rk4")),
+    };
+    Ok(Stepping {
+        integrator,
+        rtol: c.opt_range("campaign.rtol", run.rtol, DEFAULT_RTOL, 1.0e-12, 1.0e-2)?,
+        atol: c.opt_range("campaign.atol", run.atol, DEFAULT_ATOL, 1.0e-15, 1.0e-2)?,
+        max_step_s: c
+            .opt_positive("campaign.max_step_s", run.max_step_s, 1.0e6)?
+            .unwrap_or(f64::INFINITY),
+        allow_coarse_step: run.allow_coarse_step.unwrap_or(false),
+    })
+}
+
 fn phase(
     c: &Checker,
     i: usize,
     ph: &RawPhase,
     dt_default: f64,
+    max_step_default: f64,
     dir: &Path,
 ) -> Result<Phase, CampaignError> {
     let key = |k: &str| format!("phases.{i}.{k}");
@@ -554,6 +575,9 @@ fn phase(
         kind,
         duration_s: duration,
         dt_s: dt,
+        max_step_s: c
+            .opt_positive(&key("max_step_s"), ph.max_step_s, 1.0e6)?
+            .unwrap_or(max_step_default),
         thrust_n: thrust,
         flight_path_angle_rad: gamma.to_radians(),
         gravity_m_s2: gravity,

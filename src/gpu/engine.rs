@@ -10,6 +10,7 @@ use super::params::{
     fluid_records, join, GpuControl, GpuParams, GpuPhase, GpuResult, Tables, DIVERGED_REASONS,
 };
 use super::props::{props_wgsl, GpuFluid, GpuGas};
+use crate::campaign::Integrator;
 use crate::engine::Engine;
 use crate::model::derive::Derived;
 use crate::model::flight::Phase;
@@ -306,6 +307,9 @@ fn summarize(p: &Params, s0: &State, r: &GpuResult, phase_names: &[String]) -> S
     )
 }
 
+/// Why a campaign with `campaign.integrator = "dopri5"` does not run here.
+pub const ADAPTIVE_ON_GPU: &str = "the WGSL kernels integrate with fixed-step RK4 only: set campaign.integrator = \"rk4\" or run on the CPU backend (issue 11: error control on the GPU is not built yet)";
+
 impl Engine for GpuEngine {
     fn name(&self) -> &'static str {
         "gpu"
@@ -320,6 +324,9 @@ impl Engine for GpuEngine {
 
     fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
         let c = plan.campaign;
+        if c.stepping.integrator != Integrator::Rk4 {
+            return Err(ADAPTIVE_ON_GPU.to_string());
+        }
         let first = range.start;
         let mut prepared: Vec<Prepared> = range.into_par_iter().map(|i| prepare(plan, i)).collect();
         let device_idx: Vec<usize> = prepared

@@ -179,8 +179,12 @@ pub struct Phase {
     pub kind: PhaseKind,
     /// Duration, s.
     pub duration_s: f64,
-    /// Integration step, s (the phase is split into equal steps no longer than this).
+    /// Integration step, s: fixed-step RK4 splits the phase into equal steps no longer than
+    /// this; the adaptive integrator starts the phase with it.
     pub dt_s: f64,
+    /// Longest step the adaptive integrator may take in this phase, s (`INFINITY`: bounded
+    /// only by the slosh and excitation periods).
+    pub max_step_s: f64,
     /// Engine thrust during a burn, N.
     pub thrust_n: f64,
     /// Flight-path angle γ, rad.
@@ -198,6 +202,53 @@ impl Phase {
     pub fn steps(&self) -> (u64, f64) {
         let n = (self.duration_s / self.dt_s).ceil().max(1.0);
         (n as u64, self.duration_s / n)
+    }
+
+    /// Phase times in (0, duration) where the excitation has a corner (step, ramp and gust
+    /// ends), ascending, `INFINITY` where there is none: adaptive steps end on them exactly.
+    pub fn breakpoints(&self) -> [f64; 2] {
+        let (a, b) = match self.excitation {
+            Excitation::Step { start_s, .. } => (start_s, f64::INFINITY),
+            Excitation::Ramp {
+                start_s,
+                duration_s,
+                ..
+            }
+            | Excitation::Gust {
+                start_s,
+                duration_s,
+                ..
+            } => (start_s, start_s + duration_s),
+            _ => (f64::INFINITY, f64::INFINITY),
+        };
+        let inside = |t: f64| {
+            if t > 0.0 && t < self.duration_s {
+                t
+            } else {
+                f64::INFINITY
+            }
+        };
+        [inside(a), inside(b)]
+    }
+
+    /// The shortest period the excitation imposes, s: a sine's period, a sweep's at its
+    /// highest frequency, a gust's duration, a table's shortest interval (None: no period).
+    pub fn excitation_period_s(&self) -> Option<f64> {
+        match &self.excitation {
+            Excitation::Sine { frequency_hz, .. } => Some(1.0 / frequency_hz),
+            Excitation::Sweep {
+                f_start_hz,
+                f_end_hz,
+                ..
+            } => Some(1.0 / f_start_hz.max(*f_end_hz)),
+            Excitation::Gust { duration_s, .. } => Some(*duration_s),
+            Excitation::Table { time_s, .. } => time_s
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .filter(|d| *d > 0.0)
+                .reduce(f64::min),
+            _ => None,
+        }
     }
 }
 

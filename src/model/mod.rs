@@ -6,6 +6,7 @@
 
 pub mod boundary;
 pub mod derive;
+pub mod dopri;
 pub mod flight;
 pub mod homogeneous;
 pub mod nodes;

@@ -19,6 +19,9 @@ use std::f64::consts::PI;
 pub struct Fluxes<T = f64> {
     /// Net evaporation (negative: condensation), kg/s.
     pub evap_kg_s: T,
+    /// Relaxation rate of the interface pressure difference under evaporation, K·J, 1/s: its
+    /// inverse is the physical time the evaporation takes to follow a change (milliseconds).
+    pub evap_relaxation_per_s: T,
     /// Growth of the warm layer by entrainment of bulk liquid, kg/s.
     pub strat_kg_s: T,
     /// Slosh mixing exchange, kg/s each way.
@@ -39,6 +42,7 @@ impl<T: Real> Fluxes<T> {
     pub fn lane(&self, i: usize) -> Fluxes {
         Fluxes {
             evap_kg_s: self.evap_kg_s.lane(i),
+            evap_relaxation_per_s: self.evap_relaxation_per_s.lane(i),
             strat_kg_s: self.strat_kg_s.lane(i),
             mix_kg_s: self.mix_kg_s.lane(i),
             q_wall_liquid_w: self.q_wall_liquid_w.lane(i),
@@ -244,7 +248,7 @@ pub fn rhs<T: Real>(
     // Gas-side mass-transfer coefficient by the heat/mass analogy (Le ≈ 1): h_m = h / (ρ c_p).
     let h_mass_m_s = h_us / (gas.rho * gas.cp);
     let h_fg = f.h_fg_j_per_kg(t_s);
-    let m_evap = evaporation(g, s, x, dt, h_mass_m_s, layer.cp, h_fg);
+    let (m_evap, evap_relaxation) = evaporation(g, s, x, dt, h_mass_m_s, layer.cp, h_fg);
     // Engine draws from the bulk, then from the layer once the bulk is gone.
     let (out_b, out_s) = (b.out_kg_s * bulk_left, b.out_kg_s * bulk_left.rsub(1.0));
 
@@ -287,6 +291,7 @@ pub fn rhs<T: Real>(
 
     Fluxes {
         evap_kg_s: m_evap,
+        evap_relaxation_per_s: evap_relaxation,
         strat_kg_s: m_strat,
         mix_kg_s: m_mix,
         q_wall_liquid_w: q_wl,
@@ -317,7 +322,7 @@ pub fn evaporation<T: Real>(
     h_mass_m_s: T,
     cp_layer: T,
     h_fg: T,
-) -> T {
+) -> (T, T) {
     let f = g.shared().fluid.props();
     let t_s = x.t_layer_k;
     let rv = f.r_specific_j_per_kg_k();
@@ -337,5 +342,5 @@ pub fn evaporation<T: Real>(
     let (psat, dpsat_dt) = f.psat_and_slope(t_s);
     let dp = psat - x.p_vapor_pa;
     let j = x.t_ullage_k * rv / x.v_ullage_m3 + dpsat_dt * h_fg / (s[M_S].max_c(1.0e-9) * cp_layer);
-    k * dp / (dt * k * j + 1.0)
+    (k * dp / (dt * k * j + 1.0), k * j)
 }

@@ -2,6 +2,8 @@
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
 use cryoslosh::campaign::Campaign;
+use cryoslosh::fluids::Fluid;
+use cryoslosh::model::state::vapor_enthalpy_offset;
 use std::path::PathBuf;
 
 /// Every shipped campaign.
@@ -34,4 +36,19 @@ pub fn validation_csv(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/validation")
         .join(name)
+}
+
+/// du/dT of the saturated two-phase mixture at temperature t, J/(kg·K), per the closed form.
+pub fn mixture_du_dt(fluid: Fluid, v: f64, t: f64) -> f64 {
+    let f = fluid.props();
+    let r = f.r_specific_j_per_kg_k();
+    let (p, dp) = (f.psat_pa(t), f.dpsat_dt_pa_per_k(t));
+    let rho = f.rho_l_kg_per_m3(t);
+    let (vl, dvl) = (1.0 / rho, -f.drho_l_dt(t) / (rho * rho));
+    let (vv, dvv) = (r * t / p, r / p - r * t * dp / (p * p));
+    let x = (v - vl) / (vv - vl);
+    let dx = (-dvl * (vv - vl) - (v - vl) * (dvv - dvl)) / ((vv - vl) * (vv - vl));
+    let ul = f.h_l_j_per_kg(t);
+    let uv = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(fluid);
+    f.cp_l_j_per_kg_k(t) + dx * (uv - ul) + x * (f.cv_vapor_j_per_kg_k - f.cp_l_j_per_kg_k(t))
 }

@@ -1,7 +1,11 @@
-//! One tank instance through its phase list: fixed steps, per-step quantities of interest
-//! (MODEL.md §11), divergence detection and an optional sampled time history.
+//! One tank instance through its phase list: per-step quantities of interest (MODEL.md §11),
+//! divergence detection and an optional sampled time history. The error-controlled integrator
+//! lives in [`adaptive`]; fixed-step RK4 (`campaign.integrator = "rk4"`) in this file.
 
-use crate::campaign::Campaign;
+pub mod adaptive;
+pub mod plan;
+
+use crate::campaign::{Campaign, Integrator};
 use crate::lanes::{Lanes, Mask, Real};
 use crate::model::derive::{slosh_angle, Derived, Drive};
 use crate::model::flight::{Phase, G0};
@@ -39,7 +43,12 @@ pub struct Summary {
     /// What left which range, and when (None unless diverged).
     pub diverged_reason: Option<String>,
     pub final_time_s: f64,
+    /// Accepted steps.
     pub steps: u64,
+    /// Steps the error control rejected and retried shorter (0 under fixed-step RK4).
+    pub rejected_steps: u64,
+    /// Right-hand-side evaluations this instance cost (stages, probes, event location).
+    pub rhs_evaluations: u64,
     /// |Δ mass invariant| / initial mass.
     pub mass_error_rel: f64,
     /// |Δ energy invariant| / energy scale (see [`energy_scale`]).
@@ -388,6 +397,17 @@ struct LaneRun<'a> {
     /// The state that failed the checks, if one did: the instance ends there.
     diverged_state: Option<State>,
     next_sample: f64,
+    /// Adaptive stepping: mission time of the phase start, time within the phase, the next
+    /// step's proposal, the derivative at the current state (valid unless `need_k1`) and where
+    /// the step being attempted was cut.
+    phase_start_s: f64,
+    t_phase: f64,
+    h: f64,
+    k1: State,
+    need_k1: bool,
+    landing: adaptive::Landing,
+    rejected: u64,
+    evaluations: u64,
 }
 
 impl<'a> LaneRun<'a> {
@@ -417,6 +437,14 @@ impl<'a> LaneRun<'a> {
             last: ev0,
             diverged_state: None,
             next_sample: c.output_interval_s,
+            phase_start_s: 0.0,
+            t_phase: 0.0,
+            h: c.phases[0].dt_s,
+            k1: ev0.rates,
+            need_k1: false,
+            landing: adaptive::Landing::Free,
+            rejected: 0,
+            evaluations: 1,
         }
     }
 
@@ -482,7 +510,9 @@ impl<'a> LaneRun<'a> {
     fn finish(self) -> Summary {
         let p = self.params;
         let m_vapor0 = initial_vapor_mass(p, &self.s0);
-        let q = self.tracker.summary;
+        let mut q = self.tracker.summary;
+        q.rejected_steps = self.rejected;
+        q.rhs_evaluations = self.evaluations;
         finish_summary(
             q,
             p,
@@ -497,9 +527,10 @@ impl<'a> LaneRun<'a> {
 }
 
 /// Integrate the lane group `members` (one per lane of `T`, mutually
-/// [`Params::lane_compatible`]) in lockstep over their phase lists; history rows of the first
-/// lane go to `history`. Lanes may differ in phase durations and steps: each advances through
-/// its own phases, and a finished or diverged lane is frozen until the last one ends.
+/// [`Params::lane_compatible`]) in lockstep over their phase lists with the campaign's
+/// integrator; history rows of the first lane go to `history`. Lanes may differ in phase
+/// durations and steps: each advances through its own phases, and a finished or diverged lane
+/// is frozen until the last one ends.
 fn integrate<T: Real>(
     members: &[(&Campaign, &Params)],
     mut history: Option<&mut History>,
@@ -507,7 +538,7 @@ fn integrate<T: Real>(
     assert_eq!(members.len(), T::LANES, "one member per lane");
     let params: Vec<Params> = members.iter().map(|m| *m.1).collect();
     let g = Group::of(&params);
-    let mut lanes: Vec<LaneRun> = members.iter().map(|&(c, p)| LaneRun::start(c, p)).collect();
+    let lanes: Vec<LaneRun> = members.iter().map(|&(c, p)| LaneRun::start(c, p)).collect();
     if let Some(h) = history.as_deref_mut() {
         let l = &lanes[0];
         h.push(
@@ -516,6 +547,19 @@ fn integrate<T: Real>(
             false,
         );
     }
+    let lanes = match members[0].0.stepping.integrator {
+        Integrator::Dopri5 => adaptive::integrate::<T>(g, lanes, history),
+        Integrator::Rk4 => integrate_fixed::<T>(g, lanes, history),
+    };
+    lanes.into_iter().map(LaneRun::finish).collect()
+}
+
+/// Fixed-step RK4 over each lane's phase steps (`Phase::steps`).
+fn integrate_fixed<'a, T: Real>(
+    g: Group<'_>,
+    mut lanes: Vec<LaneRun<'a>>,
+    mut history: Option<&mut History>,
+) -> Vec<LaneRun<'a>> {
     let mut s: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].s0[j]));
     let mut k1: Option<State<T>> = None;
     while lanes.iter().any(|l| !l.done) {
@@ -536,6 +580,7 @@ fn integrate<T: Real>(
             if l.done {
                 continue;
             }
+            l.evaluations += if l.reuse { 4 } else { 5 };
             let h = if i == 0 { history.as_deref_mut() } else { None };
             if !l.after_step(&state::lane(&s, i), &ev.lane(i), &d.lane(i), h) {
                 diverged = diverged | T::Mask::from_fn(|j| j == i);
@@ -550,7 +595,7 @@ fn integrate<T: Real>(
         }
         k1 = Some(ev.rates);
     }
-    lanes.into_iter().map(LaneRun::finish).collect()
+    lanes
 }
 
 /// Integrate one instance with parameters `p` over the campaign's phases. With `history`,

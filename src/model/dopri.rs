@@ -1,0 +1,243 @@
+//! The Dormand–Prince 5(4) embedded Runge–Kutta pair (Dormand & Prince 1980; coefficients and
+//! the continuous extension as in Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–6, DOPRI5),
+//! written over [`Real`] so that a lane group advances in lockstep with a step length per lane.
+//!
+//! The fifth-order solution is propagated (local extrapolation), the difference to the embedded
+//! fourth-order one estimates the local error, and the seven stages give a fourth-order dense
+//! output used to locate events and extrema inside a step. Like RK4, every stage combination is
+//! linear in the stages, so mass and energy invariants are kept to rounding, and so is the dense
+//! output.
+
+use super::derive::Drive;
+use super::state::{State, NS};
+use super::{evaluate, Evaluation, Group};
+use crate::lanes::Real;
+
+/// Nodes c_i of the tableau.
+pub const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+
+/// Rows a_ij of the tableau (row 6 is the fifth-order weights b: first same as last).
+const A: [[f64; 6]; 6] = [
+    [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
+];
+
+/// Error weights b_i − b*_i (fifth minus fourth order).
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+
+/// Weights of the dense-output correction (Hairer's d_i).
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// Order of the embedded (error-estimating) solution plus one: the exponent of step control.
+pub const ERROR_ORDER: f64 = 5.0;
+
+/// One attempted step: the fifth-order end state, its evaluation (the next step's first stage
+/// when the step is accepted), the stages and the scaled error norm per lane.
+#[derive(Clone, Copy, Debug)]
+pub struct Trial<T: Real> {
+    pub end: State<T>,
+    /// Evaluation at the end state (stage 7), with the step's drive at t + h.
+    pub end_eval: Evaluation<T>,
+    pub k: [State<T>; 7],
+    /// max_i |local error_i| / (atol_i + rtol · max(|y0_i|, |y1_i|)) per lane; ≤ 1 accepts.
+    pub error: T,
+}
+
+/// Absolute and relative tolerances per state slot, per lane.
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerance<T: Real> {
+    pub atol: State<T>,
+    pub rtol: T,
+}
+
+/// Attempt one step of length `h` (per lane) from state `s` at phase time `t`; `k1` is the
+/// derivative at (s, t) (first same as last). `drive(t)` gives the trajectory at time t; the
+/// linearly implicit stiff terms of the right-hand side take `h` as their step.
+pub fn trial<T: Real>(
+    g: Group<'_>,
+    drive: impl Fn(T) -> Drive<T>,
+    s: &State<T>,
+    k1: &State<T>,
+    t: T,
+    h: T,
+    tol: &Tolerance<T>,
+) -> Trial<T> {
+    let mut k = [[T::default(); NS]; 7];
+    k[0] = *k1;
+    let mut end_eval = None;
+    for stage in 1..7 {
+        let row = &A[stage - 1];
+        let mut y = *s;
+        for (j, kj) in k.iter().enumerate().take(stage) {
+            let a = row[j];
+            if a != 0.0 {
+                for (yi, &ki) in y.iter_mut().zip(kj) {
+                    *yi += h * a * ki;
+                }
+            }
+        }
+        let ev = evaluate(g, &y, &drive(t + h * C[stage]), h);
+        k[stage] = ev.rates;
+        if stage == 6 {
+            end_eval = Some((y, ev));
+        }
+    }
+    let (end, end_eval) = end_eval.expect("seven stages");
+    let mut error = T::splat(0.0);
+    for i in 0..NS {
+        let mut e = T::splat(0.0);
+        for (j, kj) in k.iter().enumerate() {
+            if E[j] != 0.0 {
+                e += kj[i] * E[j];
+            }
+        }
+        let scale = tol.atol[i] + tol.rtol * s[i].abs().max(end[i].abs());
+        // A non-finite stage gives a NaN error, which must reject: NaN ≤ 1 is false.
+        let ratio = (e * h).abs() / scale;
+        error = T::select(ratio.le(error), error, ratio);
+    }
+    Trial {
+        end,
+        end_eval,
+        k,
+        error,
+    }
+}
+
+/// Coefficients of the dense output of one accepted step (scalar: one lane).
+#[derive(Clone, Copy, Debug)]
+pub struct Dense {
+    r: [State; 5],
+}
+
+impl Dense {
+    /// The continuous extension of the step of length `h` from `y0` to `y1` with stages `k`.
+    pub fn new(y0: &State, y1: &State, k: &[State; 7], h: f64) -> Dense {
+        let mut r = [[0.0; NS]; 5];
+        for i in 0..NS {
+            let diff = y1[i] - y0[i];
+            let bspl = h * k[0][i] - diff;
+            let mut d = 0.0;
+            for (j, kj) in k.iter().enumerate() {
+                if D[j] != 0.0 {
+                    d += D[j] * kj[i];
+                }
+            }
+            r[0][i] = y0[i];
+            r[1][i] = diff;
+            r[2][i] = bspl;
+            r[3][i] = diff - h * k[6][i] - bspl;
+            r[4][i] = h * d;
+        }
+        Dense { r }
+    }
+
+    /// The state at fraction `theta` ∈ [0, 1] of the step (fourth-order accurate).
+    pub fn at(&self, theta: f64) -> State {
+        let r = &self.r;
+        let u = 1.0 - theta;
+        std::array::from_fn(|i| {
+            r[0][i] + theta * (r[1][i] + u * (r[2][i] + theta * (r[3][i] + u * r[4][i])))
+        })
+    }
+}
+
+/// The step-length factor after a step with error norm `error`: the classical controller
+/// 0.9 · error^(−1/5), kept within [0.2, 5] (no growth right after a rejection).
+pub fn step_factor(error: f64, rejected: bool) -> f64 {
+    let f = if error > 0.0 {
+        0.9 * error.powf(-1.0 / ERROR_ORDER)
+    } else {
+        5.0
+    };
+    let hi = if rejected { 1.0 } else { 5.0 };
+    if f.is_nan() {
+        0.2
+    } else {
+        f.clamp(0.2, hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tableau is consistent: each row sums to its node, the weights to one, the error
+    /// weights to zero.
+    #[test]
+    fn tableau_is_consistent() {
+        for (row, c) in A.iter().zip(&C[1..]) {
+            assert!((row.iter().sum::<f64>() - c).abs() < 1e-14);
+        }
+        assert!(E.iter().sum::<f64>().abs() < 1e-15);
+        let b: f64 = A[5].iter().sum();
+        assert!((b - 1.0).abs() < 1e-15);
+    }
+
+    /// On y' = y the dense output is fourth-order: halving h divides the midpoint error by ≈ 32.
+    #[test]
+    fn dense_output_is_fourth_order() {
+        let err = |h: f64| {
+            // Stages of the exact linear problem y' = y from y0 = 1 (slot 0 only).
+            let mut k = [[0.0; NS]; 7];
+            let mut ys = [[0.0; NS]; 7];
+            ys[0][0] = 1.0;
+            k[0][0] = 1.0;
+            for stage in 1..7 {
+                let mut y = 1.0;
+                for j in 0..stage {
+                    y += h * A[stage - 1][j] * k[j][0];
+                }
+                ys[stage][0] = y;
+                k[stage][0] = y;
+            }
+            let y1 = ys[6];
+            let d = Dense::new(&ys[0], &y1, &k, h);
+            (d.at(0.5)[0] - (0.5 * h).exp()).abs()
+        };
+        let ratio = err(0.2) / err(0.1);
+        assert!(ratio > 24.0 && ratio < 40.0, "ratio {ratio}");
+        assert!(err(0.1) < 1e-8);
+    }
+}

@@ -1,0 +1,506 @@
+//! Error-controlled integration of a lane group (`campaign.integrator = "dopri5"`): every lane
+//! keeps its own step length, the group stays in lockstep over right-hand-side evaluations.
+//!
+//! Per attempted step each lane's local error is measured against its tolerances; a lane whose
+//! error is too large keeps its state and retries with a shorter step, the others move on.
+//! Steps end exactly on phase ends and on the excitation's corners, and never exceed a
+//! fraction of the slosh or excitation period. Relief-valve switching is located inside the
+//! step on the pair's dense output (Illinois root finding on P_u − P_crack or P_reseat − P_u),
+//! and the step is cut there; extremes between step ends are found by a probe at mid-step and
+//! a parabolic refinement, so peaks do not depend on where the steps fall.
+
+use super::{row, History, LaneRun};
+use crate::lanes::{Mask, Real};
+use crate::model::derive::{self, Drive};
+use crate::model::dopri::{self, Dense, Tolerance};
+use crate::model::params::{Fidelity, Params};
+use crate::model::state::{self, *};
+use crate::model::{self, Evaluation, Group};
+
+/// Steps per slosh or excitation period that the adaptive step never falls below.
+pub const ADAPTIVE_STEPS_PER_PERIOD: f64 = 16.0;
+
+/// Shortest step before an instance is declared diverged, as a fraction of the phase time
+/// scale (max(1 s, phase time)).
+const MIN_STEP_FRACTION: f64 = 1.0e-12;
+
+/// Reference scale of each state slot, in the slot's unit: the absolute tolerance of slot i is
+/// `atol · scale_i`. Masses: the initial fluid mass; energies: the initial stored energy
+/// ([`super::energy_scale`]); the pendulum angle 1 rad (rate 1 rad/s), two-mode displacements
+/// the tank radius (rates radius/s); velocity 1 m/s, altitude 1 m; the pressure filter the
+/// initial pressure.
+pub fn reference_scales(p: &Params, s0: &State) -> State {
+    let mass = (s0[M_V] + s0[M_G] + s0[M_S] + s0[M_B]).abs().max(1.0e-6);
+    let energy = super::energy_scale(s0, s0).max(1.0);
+    let slosh = match p.fidelity {
+        Fidelity::TwoMode => p.tank.radius_m(),
+        _ => 1.0,
+    };
+    let mut r = [energy; NS];
+    for i in [M_V, M_G, M_S, M_B, VENT_V, VENT_G, OUT, PRESS_IN] {
+        r[i] = mass;
+    }
+    for i in [Q1, Q1D, Q2, Q2D] {
+        r[i] = slosh;
+    }
+    r[VEL] = 1.0;
+    r[ALT] = 1.0;
+    r[P_FILT] = s0[P_FILT].abs().max(1.0e3);
+    r
+}
+
+/// Where a step was cut short.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Landing {
+    /// The step ends where the proposal put it.
+    Free,
+    /// On an excitation corner at this phase time.
+    Corner(f64),
+    /// On the phase end.
+    PhaseEnd,
+}
+
+impl LaneRun<'_> {
+    /// The longest step the lane may take now, s: the phase's bound and a fraction of the
+    /// excitation period; a fraction of the slosh period (from the last evaluation) too while
+    /// the phase excites the liquid or the slosh state is not exactly at rest (a liquid at
+    /// rest under no excitation stays at rest, and resolving its period would cost 16 steps
+    /// per second on the ground for nothing).
+    fn max_step(&self) -> f64 {
+        let ph = self.phase();
+        let mut h = ph.max_step_s;
+        if let Some(period) = ph.excitation_period_s() {
+            h = h.min(period / ADAPTIVE_STEPS_PER_PERIOD);
+        }
+        let excited = ph.excitation != crate::model::flight::Excitation::None
+            || [Q1, Q1D, Q2, Q2D]
+                .iter()
+                .any(|&i| self.last_state[i] != 0.0);
+        let omega = self.last.derived.slosh.omega[0].max(match self.params.fidelity {
+            Fidelity::TwoMode => self.last.derived.slosh.omega[1],
+            _ => 0.0,
+        });
+        if excited && omega > 0.0 {
+            h = h.min(std::f64::consts::TAU / omega / ADAPTIVE_STEPS_PER_PERIOD);
+        }
+        h
+    }
+
+    /// The step the lane attempts now: its proposal, bounded, cut at a corner or the phase end.
+    fn attempt(&mut self) -> f64 {
+        let ph = self.phase();
+        let t = self.t_phase;
+        let mut h = self.h.min(self.max_step());
+        self.landing = Landing::Free;
+        for bp in ph.breakpoints() {
+            if bp > t && t + h >= bp - 1.0e-6 * h {
+                h = bp - t;
+                self.landing = Landing::Corner(bp);
+                break;
+            }
+        }
+        let remaining = ph.duration_s - t;
+        if h >= remaining - 1.0e-6 * h {
+            h = remaining;
+            self.landing = Landing::PhaseEnd;
+        }
+        h
+    }
+
+    /// A rejected attempt of length `h` with error norm `error`: shorter next time; too short
+    /// is a divergence.
+    fn reject(&mut self, h: f64, error: f64) {
+        self.rejected += 1;
+        self.h = h * dopri::step_factor(error, true);
+        let floor = MIN_STEP_FRACTION * self.t_phase.max(1.0);
+        if self.h.is_nan() || self.h <= floor {
+            let name = &self.phase().name;
+            let t = self.phase_start_s + self.t_phase;
+            let q = &mut self.tracker.summary;
+            q.diverged = true;
+            q.diverged_reason = Some(format!(
+                "step size fell below {floor:.3e} s (error norm {error:.3e}) at t = {t:.3} s in phase {name}"
+            ));
+            self.done = true;
+        }
+    }
+
+    /// The evaluation of state `s` at phase time `t` (scalar, this lane).
+    fn eval_at(&mut self, s: &State, t: f64, h: f64) -> (Evaluation, Drive) {
+        self.evaluations += 1;
+        let d = self.drive(t);
+        (model::evaluate(Group::one(self.params), s, &d, h), d)
+    }
+
+    /// An accepted step of length `h` from `y0` to `y1` with stages `k`, its end evaluation
+    /// `ev1` and mid-step evaluation `mid`. Locates a valve switch inside the step and cuts
+    /// the step there, observes extremes, records history, moves to the next phase. Returns
+    /// false when the instance diverged.
+    #[expect(clippy::too_many_arguments, reason = "the step's facts, each named")]
+    fn accept(
+        &mut self,
+        y0: &State,
+        y1: &State,
+        ev1: &Evaluation,
+        k: &[State; 7],
+        h: f64,
+        error: f64,
+        mid: &Evaluation,
+        history: Option<&mut History>,
+    ) -> bool {
+        let p = self.params;
+        let dense = Dense::new(y0, y1, k, h);
+        let t0 = self.t_phase;
+        let ev0 = self.last;
+        // Valve switch: the first of mid-step and end where the switching function is ≥ 0.
+        let switch = |x: &crate::model::derive::Derived, open: bool| -> f64 {
+            let r = p.relief.expect("a valve switch needs a relief valve");
+            if open {
+                r.reseat_pa - x.p_ullage_pa
+            } else {
+                x.p_ullage_pa - r.crack_pa
+            }
+        };
+        let open = self.valve;
+        let mut cut = None;
+        if p.relief.is_some() {
+            let g0 = switch(&ev0.derived, open);
+            for (theta_hi, x) in [(0.5, &mid.derived), (1.0, &ev1.derived)] {
+                let g = switch(x, open);
+                if g >= 0.0 {
+                    let lo = if theta_hi == 1.0 { 0.5 } else { 0.0 };
+                    let g_lo = if theta_hi == 1.0 {
+                        switch(&mid.derived, open)
+                    } else {
+                        g0
+                    };
+                    cut = Some(
+                        self.locate(&dense, (t0, h), (lo, g_lo), (theta_hi, g), |x| {
+                            switch(x, open)
+                        }),
+                    );
+                    break;
+                }
+            }
+        }
+        let (theta_end, s_end, ev_end, d_end) = match cut {
+            Some(theta) => {
+                self.valve = !open;
+                let s = dense.at(theta);
+                let (ev, d) = self.eval_at(&s, t0 + theta * h, h);
+                (theta, s, ev, d)
+            }
+            None => (1.0, *y1, *ev1, self.drive(t0 + h)),
+        };
+        let t_end = if cut.is_none() {
+            match self.landing {
+                Landing::PhaseEnd => self.phase().duration_s,
+                Landing::Corner(bp) => bp,
+                Landing::Free => t0 + h,
+            }
+        } else {
+            t0 + theta_end * h
+        };
+        self.steps += 1;
+        let mission = self.phase_start_s + t_end;
+        self.t = mission;
+        if let Some(reason) = super::check_state(p, &s_end, &ev_end.derived) {
+            let name = &self.phase().name;
+            let q = &mut self.tracker.summary;
+            q.diverged = true;
+            q.diverged_reason = Some(format!("{reason} at t = {mission:.3} s in phase {name}"));
+            self.diverged_state = Some(s_end);
+            self.t_phase = t_end;
+            self.done = true;
+            return false;
+        }
+        // Extremes between the step ends: a probe inside [0, theta_end], then a parabola.
+        let probe = if theta_end > 0.5 {
+            (0.5, *mid, self.drive(t0 + 0.5 * h))
+        } else {
+            let th = 0.5 * theta_end;
+            let s = dense.at(th);
+            let (ev, d) = self.eval_at(&s, t0 + th * h, h);
+            (th, ev, d)
+        };
+        self.observe_probe(
+            &dense,
+            y0,
+            (t0, h),
+            &ev0,
+            probe,
+            (theta_end, &s_end, &ev_end),
+        );
+        self.tracker.observe(p, mission, &s_end, &ev_end, &d_end);
+
+        if let Some(hist) = history {
+            let interval = self.campaign.output_interval_s;
+            let start = self.phase_start_s;
+            while self.next_sample < mission - 1.0e-9 * interval {
+                let th = ((self.next_sample - start - t0) / h).clamp(0.0, theta_end);
+                let s = dense.at(th);
+                let (ev, d) = self.eval_at(&s, t0 + th * h, h);
+                hist.push(
+                    row(p, start + t0 + th * h, &s, &ev, &d),
+                    &self.phase().name,
+                    open,
+                );
+                self.next_sample += interval;
+            }
+            let on_sample = (mission - self.next_sample).abs() <= 1.0e-9 * interval;
+            if on_sample || cut.is_some() || self.landing == Landing::PhaseEnd {
+                hist.push(
+                    row(p, mission, &s_end, &ev_end, &d_end),
+                    &self.phase().name,
+                    self.valve,
+                );
+            }
+            while self.next_sample <= mission + 1.0e-9 * interval {
+                self.next_sample += interval;
+            }
+        }
+
+        self.h = if cut.is_some() || self.landing != Landing::Free {
+            // A cut step says little about the next one: keep the proposal if the error allows.
+            self.h.max(h * dopri::step_factor(error, false))
+        } else {
+            h * dopri::step_factor(error, false)
+        };
+        if cut.is_some() {
+            self.h = self.h.min(restart_step(&ev_end));
+        }
+        self.t_phase = t_end;
+        self.last_state = s_end;
+        self.last = ev_end;
+        self.k1 = ev_end.rates;
+        // The end evaluation used the closed-valve drive if the valve just switched: evaluated
+        // again above with the new state; a phase change needs the next phase's drive.
+        self.need_k1 = false;
+        if cut.is_none() && self.landing == Landing::PhaseEnd {
+            if self.phase + 1 == self.campaign.phases.len() {
+                self.done = true;
+            } else {
+                self.phase += 1;
+                self.phase_start_s = mission;
+                self.t_phase = 0.0;
+                self.h = self.phase().dt_s.min(restart_step(&ev_end));
+                self.need_k1 = true;
+            }
+        }
+        true
+    }
+
+    /// Observe the extremes between the step start (`ev0` at θ = 0), a probe and the end:
+    /// where a quantity is more extreme at the probe than at both ends, the vertex of the
+    /// parabola through the three samples is evaluated and observed too.
+    fn observe_probe(
+        &mut self,
+        dense: &Dense,
+        y0: &State,
+        (t0, h): (f64, f64),
+        ev0: &Evaluation,
+        (th_m, ev_m, d_m): (f64, Evaluation, Drive),
+        (th_e, s_e, ev_e): (f64, &State, &Evaluation),
+    ) {
+        let p = self.params;
+        let s_m = dense.at(th_m);
+        let mission = self.phase_start_s + t0;
+        self.tracker
+            .observe(p, mission + th_m * h, &s_m, &ev_m, &d_m);
+        let burning = d_m.burning;
+        let quantities = |s: &State, ev: &Evaluation| -> [f64; 5] {
+            let x = &ev.derived;
+            let margin = if burning {
+                -super::cavitation_margin(p, s, x).0
+            } else {
+                0.0
+            };
+            [
+                x.p_ullage_pa,
+                -x.p_ullage_pa,
+                margin,
+                derive::slosh_angle(Group::one(p), s, &x.slosh).abs(),
+                ev.fluxes.slosh_force_n.abs(),
+            ]
+        };
+        let q0 = quantities(y0, ev0);
+        let qm = quantities(&s_m, &ev_m);
+        let qe = quantities(s_e, ev_e);
+        let mut vertices: Vec<f64> = Vec::new();
+        for j in 0..5 {
+            if qm[j] > q0[j] && qm[j] > qe[j] {
+                let v = parabola_vertex((0.0, q0[j]), (th_m, qm[j]), (th_e, qe[j]));
+                if v > 0.0 && v < th_e && vertices.iter().all(|u| (u - v).abs() > 1.0e-3 * th_e) {
+                    vertices.push(v);
+                }
+            }
+        }
+        for v in vertices {
+            let s = dense.at(v);
+            let (ev, d) = self.eval_at(&s, t0 + v * h, h);
+            self.tracker.observe(p, mission + v * h, &s, &ev, &d);
+        }
+    }
+
+    /// The step fraction in [lo.0, hi.0] where `g` (of the derived state on the dense output)
+    /// crosses zero, g(lo) < 0 ≤ g(hi): Illinois regula falsi to 1e-10 of the step. Returns
+    /// the end of the last bracket where g ≥ 0, so the switch has happened there.
+    fn locate(
+        &mut self,
+        dense: &Dense,
+        (t0, h): (f64, f64),
+        mut lo: (f64, f64),
+        mut hi: (f64, f64),
+        g: impl Fn(&crate::model::derive::Derived) -> f64,
+    ) -> f64 {
+        let p = self.params;
+        let mut side = 0i8;
+        for _ in 0..60 {
+            if hi.0 - lo.0 <= 1.0e-10 {
+                break;
+            }
+            let (a, b) = (lo.1, hi.1);
+            let mut th = (lo.0 * b - hi.0 * a) / (b - a);
+            if !(th > lo.0 && th < hi.0) {
+                th = 0.5 * (lo.0 + hi.0);
+            }
+            let s = dense.at(th);
+            let d = self.drive(t0 + th * h);
+            self.evaluations += 1;
+            let v = g(&derive::derive(Group::one(p), &s, &d));
+            if v >= 0.0 {
+                hi = (th, v);
+                if side == 1 {
+                    lo.1 *= 0.5;
+                }
+                side = 1;
+            } else {
+                lo = (th, v);
+                if side == -1 {
+                    hi.1 *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        hi.0
+    }
+}
+
+/// The first step after a discontinuity (valve switch, phase start), s: the interface's own
+/// relaxation time 1/(K J). The linearly implicit evaporation follows a jump of its
+/// quasi-steady rate about one step late, a lag the embedded error estimate cannot see (both
+/// solutions share it); starting from the physical time scale keeps that lag physical, and the
+/// controller grows the step fivefold per step once the jump has passed.
+fn restart_step(ev: &Evaluation) -> f64 {
+    let rate = ev.fluxes.evap_relaxation_per_s;
+    if rate > 0.0 {
+        1.0 / rate
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Abscissa of the vertex of the parabola through three points with distinct abscissae.
+fn parabola_vertex(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
+    let (p, q) = (b.0 - a.0, b.0 - c.0);
+    let (fa, fc) = (b.1 - c.1, b.1 - a.1);
+    let den = p * fa - q * fc;
+    if den == 0.0 {
+        return b.0;
+    }
+    b.0 - 0.5 * (p * p * fa - q * q * fc) / den
+}
+
+/// Integrate the lane group `members` with error control (see the module doc); history rows
+/// of the first lane go to `history`.
+pub(super) fn integrate<'a, T: Real>(
+    g: Group<'_>,
+    mut lanes: Vec<LaneRun<'a>>,
+    mut history: Option<&mut History>,
+) -> Vec<LaneRun<'a>> {
+    let scales: Vec<State> = lanes
+        .iter()
+        .map(|l| reference_scales(l.params, &l.s0))
+        .collect();
+    let tol = Tolerance {
+        atol: std::array::from_fn(|j| {
+            T::from_fn(|i| scales[i][j] * lanes[i].campaign.stepping.atol)
+        }),
+        rtol: T::from_fn(|i| lanes[i].campaign.stepping.rtol),
+    };
+    let mut s: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].s0[j]));
+    while lanes.iter().any(|l| !l.done) {
+        let h = T::from_fn(|i| {
+            if lanes[i].done {
+                1.0
+            } else {
+                lanes[i].attempt()
+            }
+        });
+        let t = T::from_fn(|i| lanes[i].t_phase);
+        if lanes.iter().any(|l| !l.done && l.need_k1) {
+            let d = Drive::gather(|i| lanes[i].drive(t.lane(i)));
+            let ev = model::evaluate(g, &s, &d, h);
+            for (i, l) in lanes.iter_mut().enumerate() {
+                if !l.done && l.need_k1 {
+                    l.k1 = state::lane(&ev.rates, i);
+                    l.evaluations += 1;
+                }
+            }
+        }
+        let k1: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].k1[j]));
+        let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
+        let trial = dopri::trial(g, drive, &s, &k1, t, h, &tol);
+        let accepted = T::Mask::from_fn(|i| !lanes[i].done && trial.error.lane(i) <= 1.0);
+        // The mid-step probe of every accepted lane, evaluated together.
+        let mid = if accepted.any() {
+            let dense: Vec<Option<Dense>> = (0..T::LANES)
+                .map(|i| {
+                    accepted.lane(i).then(|| {
+                        let k = trial.k.map(|kj| state::lane(&kj, i));
+                        Dense::new(
+                            &state::lane(&s, i),
+                            &state::lane(&trial.end, i),
+                            &k,
+                            h.lane(i),
+                        )
+                    })
+                })
+                .collect();
+            let sm: State<T> = std::array::from_fn(|j| {
+                T::from_fn(|i| dense[i].as_ref().map_or(s[j].lane(i), |d| d.at(0.5)[j]))
+            });
+            Some(model::evaluate(g, &sm, &drive(t + h * 0.5), h))
+        } else {
+            None
+        };
+        for (i, l) in lanes.iter_mut().enumerate() {
+            if l.done {
+                continue;
+            }
+            l.evaluations += 6;
+            let (hi, err) = (h.lane(i), trial.error.lane(i));
+            if !accepted.lane(i) {
+                l.reject(hi, err);
+                continue;
+            }
+            l.evaluations += 1;
+            let hist = if i == 0 { history.as_deref_mut() } else { None };
+            let k = trial.k.map(|kj| state::lane(&kj, i));
+            l.accept(
+                &state::lane(&s, i),
+                &state::lane(&trial.end, i),
+                &trial.end_eval.lane(i),
+                &k,
+                hi,
+                err,
+                &mid.as_ref().expect("accepted lanes have a probe").lane(i),
+                hist,
+            );
+        }
+        // Each lane goes on from its last good state: the end of an accepted step, the start
+        // of a rejected one; a diverged lane is frozen at its last good state.
+        s = std::array::from_fn(|j| T::from_fn(|i| lanes[i].last_state[j]));
+    }
+    lanes
+}
