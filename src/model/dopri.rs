@@ -185,18 +185,17 @@ impl Dense {
 
 /// The step-length factor after a step with error norm `error`: the classical controller
 /// 0.9 · error^(−1/5), kept within [0.2, 5] (no growth right after a rejection).
+/// A non-finite error (a stage left the model's range) shrinks the step as much as allowed.
 pub fn step_factor(error: f64, rejected: bool) -> f64 {
+    if !error.is_finite() {
+        return 0.2;
+    }
     let f = if error > 0.0 {
         0.9 * error.powf(-1.0 / ERROR_ORDER)
     } else {
         5.0
     };
-    let hi = if rejected { 1.0 } else { 5.0 };
-    if f.is_nan() {
-        0.2
-    } else {
-        f.clamp(0.2, hi)
-    }
+    f.clamp(0.2, if rejected { 1.0 } else { 5.0 })
 }
 
 #[cfg(test)]
@@ -213,6 +212,18 @@ mod tests {
         assert!(E.iter().sum::<f64>().abs() < 1e-15);
         let b: f64 = A[5].iter().sum();
         assert!((b - 1.0).abs() < 1e-15);
+    }
+
+    /// A NaN error norm once left the step unchanged (NaN > 0 is false, so the factor was the
+    /// growth cap clamped to 1): the LOX ascent at two_mode retried the same step forever.
+    #[test]
+    fn non_finite_error_shrinks_the_step() {
+        for e in [f64::NAN, f64::INFINITY] {
+            assert_eq!(step_factor(e, true), 0.2);
+            assert_eq!(step_factor(e, false), 0.2);
+        }
+        assert_eq!(step_factor(0.0, false), 5.0);
+        assert_eq!(step_factor(0.0, true), 1.0);
     }
 
     /// On y' = y the dense output is fourth-order: halving h divides the midpoint error by ≈ 32.

@@ -430,9 +430,11 @@ pub(super) fn integrate<'a, T: Real>(
     };
     let mut s: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].s0[j]));
     while lanes.iter().any(|l| !l.done) {
+        // A finished lane steps by 0: its stages stay on its last good state, so the group
+        // never evaluates (and iterates) where that lane alone would not go.
         let h = T::from_fn(|i| {
             if lanes[i].done {
-                1.0
+                0.0
             } else {
                 lanes[i].attempt()
             }
