@@ -412,6 +412,12 @@ fn h_unstable_interface(p: Conv, accel: f32, dt_unstable_k: f32, length_m: f32) 
     return 0.15 * pow(rp.x, 1.0 / 3.0) * p.k / length;
 }
 
+/// Wall-to-fluid heat over a step, implicit in ΔT with the wall's own warming (thermal::wall_exchange).
+fn wall_exchange(ua: f32, dt: f32, c_wall: f32, c_fluid: f32, dtemp: f32) -> f32 {
+    let warming = P.heat_leak_w / (P.wall_areal_mass * tank_wall_area() * P.wall_cp);
+    return limited_conductance(ua, dt, c_wall, c_fluid) * (dtemp + dt * warming);
+}
+
 fn limited_conductance(ua: f32, dt: f32, c_a: f32, c_b: f32) -> f32 {
     return ua / (1.0 + dt * ua * (1.0 / c_a + 1.0 / c_b));
 }
@@ -572,7 +578,8 @@ fn liquid_node_rates(p_pa: f32, flux_w: f32, dm: f32, t: f32, rho: f32) -> vec2<
     return vec2<f32>(dh, dm / rho + beta * (dh - h * dm));
 }
 
-fn evaporation(s: ptr<function, St>, x: Derived, dt: f32, h_mass: f32) -> f32 {
+/// (K, Δp) of the interfacial evaporation (nodes::evaporation_driving).
+fn evaporation_driving(s: ptr<function, St>, x: Derived, h_mass: f32) -> vec2<f32> {
     let t_s = x.t_s;
     let rv = fl_r_specific();
     var k_kin = P.evap_coeff;
@@ -584,10 +591,63 @@ fn evaporation(s: ptr<function, St>, x: Derived, dt: f32, h_mass: f32) -> f32 {
     let x_he = moles_g / max(moles_v + moles_g, 1.0e-30);
     let diffusion = x_he * rv * x.t_u / max(h_mass * x.a_i, 1.0e-30);
     let k = 1.0 / (1.0 / k_kin + diffusion);
-    let dp = fl_psat_pa(t_s) - x.p_v;
-    let j = rv * x.t_u / x.v_u
-        + fl_dpsat_dt(t_s) * fl_h_fg(t_s) / (max((*s)[M_S], 1.0e-9) * fl_cp_l(t_s));
-    return k * dp / (1.0 + dt * k * j);
+    return vec2<f32>(k, fl_psat_pa(t_s) - x.p_v);
+}
+
+/// What the slots evaporation moves depend on, besides the evaporation rate (nodes::rhs `tail`).
+struct EvapTail {
+    q_ws: f32,
+    q_us: f32,
+    q_sb: f32,
+    q_wu: f32,
+    m_strat: f32,
+    out_s: f32,
+    mix_w: f32,
+    h_ls: f32,
+    h_lb: f32,
+    h_fg: f32,
+    h_vap_gas: f32,
+    vent: f32,
+    y: f32,
+    press: f32,
+    h_press: f32,
+    h_u: f32,
+    pu: f32,
+    dv_b: f32,
+    dv_slosh: f32,
+    t_s: f32,
+    rho_s: f32,
+}
+
+/// [dm_v, dm_s, dH_s, dU_u, dV_s] at evaporation rate m.
+fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
+    let e_evap = max(m, 0.0) * (c.h_ls + c.h_fg) + min(m, 0.0) * c.h_vap_gas;
+    let dm_v = m - c.vent * c.y;
+    let dm_s = -m + c.m_strat - c.out_s;
+    let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_lb - c.mix_w - c.out_s * c.h_ls;
+    let rs = liquid_node_rates(c.pu, f_s, dm_s, c.t_s, c.rho_s);
+    let du_u = c.q_wu - c.q_us + e_evap + c.press * c.h_press - c.vent * c.h_u
+        + c.pu * (rs.y + c.dv_b) - c.pu * c.dv_slosh;
+    return array<f32, 5>(dm_v, dm_s, rs.x, du_u, rs.y);
+}
+
+/// d(P_sat(T_s) − P_v)/dt along the rates r of evap_tail (chain rule through derive_nodes).
+fn evap_dp_rate(s: ptr<function, St>, x: Derived, c: EvapTail, r: array<f32, 5>, dm_g: f32) -> f32 {
+    let heat_cap = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
+    let dt_s = (r[2] - c.h_ls * r[1]) / (max((*s)[M_S], 1.0e-9) * fl_cp_l(c.t_s));
+    let dt_u = (r[3] - r[0] * FL.vapor_offset - x.t_u * (r[0] * FL.cv_vapor + dm_g * HE.cv)) / heat_cap;
+    let dv_u = c.dv_slosh - r[4] - c.dv_b;
+    let dp_v = ((r[0] * x.t_u + (*s)[M_V] * dt_u) * fl_r_specific() - x.p_v * dv_u) / x.v_u;
+    return fl_dpsat_dt(c.t_s) * dt_s - dp_v;
+}
+
+/// The linearly implicit evaporation rate with its forcing (nodes::implicit_evaporation).
+fn implicit_evaporation(s: ptr<function, St>, x: Derived, c: EvapTail, kd: vec2<f32>, dt: f32, dm_g: f32) -> f32 {
+    let forcing = evap_dp_rate(s, x, c, evap_tail(c, 0.0), dm_g);
+    let numerator = kd.y + dt * forcing;
+    let side = select(-1.0, 1.0, numerator >= 0.0);
+    let j = max((forcing - evap_dp_rate(s, x, c, evap_tail(c, side), dm_g)) * side, 0.0);
+    return kd.x * numerator / (dt * kd.x * j + 1.0);
 }
 
 /// Lumped / two_mode right-hand side into ds; returns the lateral slosh force.
@@ -610,16 +670,14 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let c_bulk = max((*s)[M_B], 1.0e-9) * liq.cp;
     let c_gas = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
-    let ua_wl = limited_conductance(h_wl * a_wet, dt, c_wall * x.wet, c_bulk);
-    let q_wl = ua_wl * (x.t_ww - t_b);
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b);
     let depth = x.v_s / a_i;
     let a_ws = clamp(a_wet - tank_wetted_area(x.level - depth), 0.0, a_wet);
     let contact = a_ws / max(a_wet, 1.0e-12);
     let to_layer = contact + P.wall_heat_to_layer * (1.0 - contact);
     let q_ws = to_layer * q_wl;
     let q_wb = (1.0 - to_layer) * q_wl;
-    let ua_wu = limited_conductance(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas);
-    let q_wu = ua_wu * (x.t_wd - t_u);
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas, x.t_wd - t_u);
 
     var h_us = P.h_us;
     if ((P.flags & FLAG_H_US) == 0u) {
@@ -642,37 +700,57 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     let b = boundary_flows(s, d, x);
     let h_mass = h_us / (gas.rho * gas.cp);
-    let m_evap = evaporation(s, x, dt, h_mass);
+    let kd = evaporation_driving(s, x, h_mass);
     let out_b = b.out * bulk_left;
     let out_s = b.out * (1.0 - bulk_left);
 
     let h_ls = fl_h_l(t_s);
     let h_lb = fl_h_l(t_b);
     let h_vap_gas = FL.cp_vapor * t_u + FL.vapor_offset;
-    let e_evap = max(m_evap, 0.0) * (h_ls + fl_h_fg(t_s)) + min(m_evap, 0.0) * h_vap_gas;
     let y = b.y;
     let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
     let h_press = helium_inlet_enthalpy();
-
-    (*ds)[M_V] = m_evap - b.vent * y;
-    (*ds)[M_G] = b.press - b.vent * (1.0 - y);
-    (*ds)[M_S] = -m_evap + m_strat - out_s;
-    (*ds)[M_B] = -m_strat - out_b;
-
-    let mix_w = m_mix * (h_ls - h_lb);
-    let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls;
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
     let pu = x.p_u;
-    let rs = liquid_node_rates(pu, f_s, (*ds)[M_S], t_s, x.rho_s);
-    let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
-    (*ds)[H_S] = rs.x;
-    (*ds)[H_B] = rb.x;
 
+    (*ds)[M_G] = b.press - b.vent * (1.0 - y);
+    (*ds)[M_B] = -m_strat - out_b;
+    let mix_w = m_mix * (h_ls - h_lb);
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
+    let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
+    (*ds)[H_B] = rb.x;
     let force = motion_rates(s, d, x, ds);
     let angle = slosh_angle(s, x.sl);
     let dv_slosh = P.coupling_volume_m3 * cos(angle) * slosh_angle_rate(s, x);
-    (*ds)[U_U] = q_wu - q_us + e_evap + b.press * h_press - b.vent * h_u + pu * (rs.y + rb.y)
-        - pu * dv_slosh;
+
+    var c: EvapTail;
+    c.q_ws = q_ws;
+    c.q_us = q_us;
+    c.q_sb = q_sb;
+    c.q_wu = q_wu;
+    c.m_strat = m_strat;
+    c.out_s = out_s;
+    c.mix_w = mix_w;
+    c.h_ls = h_ls;
+    c.h_lb = h_lb;
+    c.h_fg = fl_h_fg(t_s);
+    c.h_vap_gas = h_vap_gas;
+    c.vent = b.vent;
+    c.y = y;
+    c.press = b.press;
+    c.h_press = h_press;
+    c.h_u = h_u;
+    c.pu = pu;
+    c.dv_b = rb.y;
+    c.dv_slosh = dv_slosh;
+    c.t_s = t_s;
+    c.rho_s = x.rho_s;
+    let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
+    let r = evap_tail(c, m_evap);
+    (*ds)[M_V] = r[0];
+    (*ds)[M_S] = r[1];
+    (*ds)[H_S] = r[2];
+    (*ds)[U_U] = r[3];
+    let rs = vec2<f32>(r[2], r[4]);
 
     wall_rates(x, q_wl, q_wu, rs.y + rb.y, ds);
     boundary_ledger(b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
@@ -695,10 +773,8 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let c_fluid = x.m_l * liq.cp + m_u * FL.cv_vapor;
-    let ua_wl = limited_conductance(h_wl * a_wet, dt, c_wall * x.wet, c_fluid);
-    let ua_wu = limited_conductance(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid);
-    let q_wl = ua_wl * (x.t_ww - t);
-    let q_wu = ua_wu * (x.t_wd - t);
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_fluid, x.t_ww - t);
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid, x.t_wd - t);
 
     var sv = *s;
     sv[M_V] = x.m_v;

@@ -117,10 +117,12 @@ pub fn rhs<T: Real>(
     // The fluid's heat capacity is far larger than a wall node's: the wall side limits the step.
     let c_wall: T = g.get(Params::wall_heat_capacity_j_per_k);
     let c_fluid = x.m_liquid_kg * liq.cp + m_u * f.cv_vapor_j_per_kg_k;
-    let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_fluid);
-    let ua_wu = thermal::limited_conductance(h_wu * a_dry, dt, c_wall * dry_share, c_fluid);
-    let q_wl = ua_wl * (x.t_wall_wet_k - t);
-    let q_wu = ua_wu * (x.t_wall_dry_k - t);
+    let warming = g.get::<T>(|p| p.heat_leak_w) / c_wall;
+    let exchange = |h: T, area: T, share: T, t_wall: T| {
+        thermal::wall_exchange(h * area, dt, c_wall * share, c_fluid, t_wall - t, warming)
+    };
+    let q_wl = exchange(h_wl, a_wet, x.wetted_share, x.t_wall_wet_k);
+    let q_wu = exchange(h_wu, a_dry, dry_share, x.t_wall_dry_k);
 
     // The M_V slot is unused here; the ullage composition comes from the equilibrium.
     let mut sv = *s;

@@ -168,7 +168,7 @@ fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits<T>) -> (T,
 }
 
 /// Time derivative of the state at one instant. `dt` is the step the integrator is taking: the
-/// stiff evaporation term is rate-limited to it (linearly implicit, see [`evaporation`]).
+/// stiff evaporation and wall exchange are implicit over it (see [`implicit_evaporation`]).
 pub fn rhs<T: Real>(
     g: Group<'_>,
     s: &State<T>,
@@ -205,8 +205,15 @@ pub fn rhs<T: Real>(
     let c_wall: T = g.get(Params::wall_heat_capacity_j_per_k);
     let c_bulk = s[M_B].max_c(1.0e-9) * liq.cp;
     let c_gas = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
-    let ua_wl = thermal::limited_conductance(h_wl * a_wet, dt, c_wall * x.wetted_share, c_bulk);
-    let q_wl = ua_wl * (x.t_wall_wet_k - t_b);
+    let warming = g.get::<T>(|p| p.heat_leak_w) / c_wall;
+    let q_wl = thermal::wall_exchange(
+        h_wl * a_wet,
+        dt,
+        c_wall * x.wetted_share,
+        c_bulk,
+        x.t_wall_wet_k - t_b,
+        warming,
+    );
     let depth = x.v_layer_m3 / a_i;
     let a_below = tank.wetted_area_m2(x.level_m - depth);
     let a_ws = (a_wet - a_below).max_c(0.0).min(a_wet);
@@ -215,8 +222,14 @@ pub fn rhs<T: Real>(
     let lift: T = g.get(|p| p.stratification.wall_heat_to_layer);
     let to_layer = contact + lift * contact.rsub(1.0);
     let (q_ws, q_wb) = (to_layer * q_wl, to_layer.rsub(1.0) * q_wl);
-    let ua_wu = thermal::limited_conductance(h_wu * a_dry, dt, c_wall * dry_share, c_gas);
-    let q_wu = ua_wu * (x.t_wall_dry_k - t_u);
+    let q_wu = thermal::wall_exchange(
+        h_wu * a_dry,
+        dt,
+        c_wall * dry_share,
+        c_gas,
+        x.t_wall_dry_k - t_u,
+        warming,
+    );
 
     // Interface: ullage ↔ layer (stable, warm gas over cold liquid) and layer ↔ bulk.
     let h_us = closure(
@@ -248,42 +261,65 @@ pub fn rhs<T: Real>(
     // Gas-side mass-transfer coefficient by the heat/mass analogy (Le ≈ 1): h_m = h / (ρ c_p).
     let h_mass_m_s = h_us / (gas.rho * gas.cp);
     let h_fg = f.h_fg_j_per_kg(t_s);
-    let (m_evap, evap_relaxation) = evaporation(g, s, x, dt, h_mass_m_s, layer.cp, h_fg);
+    let (k_evap, dp) = evaporation_driving(g, s, x, h_mass_m_s);
     // Engine draws from the bulk, then from the layer once the bulk is gone.
     let (out_b, out_s) = (b.out_kg_s * bulk_left, b.out_kg_s * bulk_left.rsub(1.0));
 
     let (h_ls, h_lb) = (layer.h, bulk.h);
     let h_vap_gas = t_u * f.cp_vapor_j_per_kg_k + off;
-    // Evaporating liquid carries h_l + h_fg at T_s; condensing vapour leaves at the gas enthalpy.
-    let e_evap = m_evap.max_c(0.0) * (h_ls + h_fg) + m_evap.min_c(0.0) * h_vap_gas;
     let y = b.y_vapor;
     let h_u = y * h_vap_gas + y.rsub(1.0) * HELIUM.cp_j_per_kg_k * t_u;
     let h_press = boundary::helium_inlet_enthalpy(g);
-
-    // Mass.
-    ds[M_V] = m_evap - b.vent_kg_s * y;
-    ds[M_G] = b.press_kg_s - b.vent_kg_s * y.rsub(1.0);
-    ds[M_S] = -m_evap + m_strat - out_s;
-    ds[M_B] = -m_strat - out_b;
-
-    // Liquid energy with the work of its own expansion.
-    let mix_w = m_mix * (h_ls - h_lb);
-    let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls;
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
     let pu = x.p_ullage_pa;
-    let (dh_s, dv_s) = liquid_node_rates(pu, f_s, ds[M_S], &layer);
-    let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], &bulk);
-    ds[H_S] = dh_s;
-    ds[H_B] = dh_b;
 
-    // Ullage energy: the liquid's expansion work arrives here; the slosh volume term is external.
+    // Slots evaporation does not move.
+    ds[M_G] = b.press_kg_s - b.vent_kg_s * y.rsub(1.0);
+    ds[M_B] = -m_strat - out_b;
+    let mix_w = m_mix * (h_ls - h_lb);
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
+    let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], &bulk);
+    ds[H_B] = dh_b;
     let force = boundary::motion_rates(g, s, d, x, ds);
     let angle = super::derive::slosh_angle(g, s, &x.slosh);
     let c_v: T = g.get(|p| p.coupling.volume_m3);
     let dv_slosh = c_v * angle.map(f64::cos) * boundary::slosh_angle_rate(g, s, x);
-    ds[U_U] = q_wu - q_us + e_evap + b.press_kg_s * h_press - b.vent_kg_s * h_u
-        + pu * (dv_s + dv_b)
-        - pu * dv_slosh;
+
+    // The slots evaporation moves, at evaporation rate m: [dm_v, dm_s, dH_s, dU_u, dV_s]. The
+    // liquid's expansion work arrives in the ullage; the slosh volume term is external.
+    let tail = |m: T| -> [T; 5] {
+        // Evaporating liquid carries h_l + h_fg at T_s; condensing vapour leaves at the gas
+        // enthalpy.
+        let e_evap = m.max_c(0.0) * (h_ls + h_fg) + m.min_c(0.0) * h_vap_gas;
+        let dm_v = m - b.vent_kg_s * y;
+        let dm_s = -m + m_strat - out_s;
+        let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls;
+        let (dh_s, dv_s) = liquid_node_rates(pu, f_s, dm_s, &layer);
+        let du_u = q_wu - q_us + e_evap + b.press_kg_s * h_press - b.vent_kg_s * h_u
+            + pu * (dv_s + dv_b)
+            - pu * dv_slosh;
+        [dm_v, dm_s, dh_s, du_u, dv_s]
+    };
+    // d(P_sat(T_s) − P_v)/dt along those rates, by the chain rule through `derive_nodes`:
+    // T_s from H_s/m_s, T_u from U_u, P_v = m_v R_v T_u / V_u.
+    let rv = f.r_specific_j_per_kg_k();
+    let (cv_v, cv_g) = (f.cv_vapor_j_per_kg_k, HELIUM.cv_j_per_kg_k);
+    let heat_cap = s[M_V] * cv_v + s[M_G] * cv_g;
+    let dpsat_dt = f.psat_and_slope(t_s).1;
+    let dm_g = ds[M_G];
+    let dp_rate = |r: [T; 5]| -> T {
+        let dt_s = (r[2] - h_ls * r[1]) / (s[M_S].max_c(1.0e-9) * layer.cp);
+        let dt_u = (r[3] - r[0] * off - t_u * (r[0] * cv_v + dm_g * cv_g)) / heat_cap;
+        let dv_u = dv_slosh - r[4] - dv_b;
+        let dp_v = ((r[0] * t_u + s[M_V] * dt_u) * rv - x.p_vapor_pa * dv_u) / x.v_ullage_m3;
+        dpsat_dt * dt_s - dp_v
+    };
+    let (m_evap, evap_relaxation) = implicit_evaporation(k_evap, dp, dt, &tail, &dp_rate);
+
+    let [dm_v, dm_s, dh_s, du_u, dv_s] = tail(m_evap);
+    ds[M_V] = dm_v;
+    ds[M_S] = dm_s;
+    ds[H_S] = dh_s;
+    ds[U_U] = du_u;
 
     boundary::wall_rates(g, &tank, x, q_wl, q_wu, dv_s + dv_b, ds);
     boundary::boundary_ledger(&b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
@@ -302,26 +338,18 @@ pub fn rhs<T: Real>(
     }
 }
 
-/// Interfacial evaporation ṁ = K (P_sat(T_s) − P_v) (MODEL.md §4, [fix]: vapour partial pressure).
+/// Interfacial evaporation ṁ = K (P_sat(T_s) − P_v) (MODEL.md §4, [fix]: vapour partial pressure):
+/// returns (K, Δp), K in kg/(s·Pa), Δp = P_sat(T_s) − P_v in Pa.
 ///
 /// K is the Schrage kinetic coefficient in series with gas-side diffusion through the helium:
 /// 1/K = 1/K_kin + x_He R_v T_u / (h_m A), with h_m the gas-side mass-transfer coefficient and
 /// x_He the helium mole fraction (Stefan flow: no diffusion resistance in pure vapour). Without
 /// it, evaporation into a helium ullage runs at the kinetic limit and freezes the surface.
-///
-/// A realistic K relaxes P_v onto P_sat(T_s) in milliseconds. The rate is taken linearly implicit
-/// over the step: ṁ = K Δp / (1 + dt K J), J = ∂(P_v − P_sat)/∂m = R_v T_u / V_u +
-/// P_sat'(T_s) h_fg / (m_s c_p), which is K Δp when K dt J ≪ 1 and the one-step relaxation of Δp
-/// when K dt J ≫ 1, keeping the explicit RK step stable at any K.
-/// `cp_layer` and `h_fg` are the layer's c_p,l and latent heat at T_s.
-pub fn evaporation<T: Real>(
+pub fn evaporation_driving<T: Real>(
     g: Group<'_>,
     s: &State<T>,
     x: &Derived<T>,
-    dt: T,
     h_mass_m_s: T,
-    cp_layer: T,
-    h_fg: T,
 ) -> (T, T) {
     let f = g.shared().fluid.props();
     let t_s = x.t_layer_k;
@@ -339,8 +367,31 @@ pub fn evaporation<T: Real>(
     let x_he = moles_g / (moles_v + moles_g).max_c(1.0e-300);
     let diffusion = x_he * rv * x.t_ullage_k / (h_mass_m_s * x.interface_area_m2).max_c(1.0e-300);
     let k = (k_kin.rdiv(1.0) + diffusion).rdiv(1.0);
-    let (psat, dpsat_dt) = f.psat_and_slope(t_s);
-    let dp = psat - x.p_vapor_pa;
-    let j = x.t_ullage_k * rv / x.v_ullage_m3 + dpsat_dt * h_fg / (s[M_S].max_c(1.0e-9) * cp_layer);
-    (k * dp / (dt * k * j + 1.0), k * j)
+    (k, f.psat_pa(t_s) - x.p_vapor_pa)
+}
+
+/// The evaporation rate over a step of length `dt`, linearly implicit in the interface pressure
+/// difference Δp, and its relaxation rate K·J, 1/s.
+///
+/// A realistic K relaxes P_v onto P_sat(T_s) in milliseconds: dΔp/dt = F − J ṁ, with F the rate
+/// at which every other flux moves Δp and J = −∂(dΔp/dt)/∂ṁ. One implicit Euler step of that
+/// relation, ṁ = K (Δp + dt F) / (1 + dt K J), is K Δp when dt K J ≪ 1, stays stable at any K,
+/// and — because F is in it — leaves the physical quasi-steady Δp = F / (K J) at any step, so the
+/// step changes the rate only where F itself changes within it. (Without F the quasi-steady Δp
+/// is (1 + dt K J) times the physical one, a step-dependent pressure offset that an embedded
+/// error estimate cannot see.) F and J come from `dp_rate` applied to the node rates `tail(ṁ)`,
+/// which are affine in ṁ on each side of 0 (evaporation and condensation carry different
+/// enthalpies): J is taken on the side the result falls.
+fn implicit_evaporation<T: Real>(
+    k: T,
+    dp: T,
+    dt: T,
+    tail: &impl Fn(T) -> [T; 5],
+    dp_rate: &impl Fn([T; 5]) -> T,
+) -> (T, T) {
+    let forcing = dp_rate(tail(c(0.0)));
+    let numerator = dp + dt * forcing;
+    let side = T::select(numerator.ge(c(0.0)), c(1.0), c(-1.0));
+    let j = ((forcing - dp_rate(tail(side))) * side).max_c(0.0);
+    (k * numerator / (dt * k * j + 1.0), k * j)
 }

@@ -71,6 +71,24 @@ pub fn limited_conductance<T: Real>(ua: T, dt: T, c_a: T, c_b: T) -> T {
     ua / (dt * ua * (c_a.rdiv(1.0) + c_b.rdiv(1.0)) + 1.0)
 }
 
+/// Heat from a wall node into a fluid node over a step of length `dt`, W: one implicit Euler
+/// step of the temperature difference ΔT = T_wall − T_fluid, dΔT/dt = F − q (1/C_wall +
+/// 1/C_fluid), with q = ua ΔT and F = `forcing_k_s` the rate at which the wall warms on its own
+/// (heat leak / wall heat capacity). q = ua (ΔT + dt F) / (1 + dt ua (1/C_wall + 1/C_fluid)):
+/// stable at any step, ua ΔT as dt → 0, and — F included — the physical quasi-steady ΔT at any
+/// step, where without F the wall would hold dt·F too much (an error an embedded Runge–Kutta
+/// estimate cannot see).
+pub fn wall_exchange<T: Real>(
+    ua: T,
+    dt: T,
+    c_wall: T,
+    c_fluid: T,
+    dtemp_k: T,
+    forcing_k_s: T,
+) -> T {
+    limited_conductance(ua, dt, c_wall, c_fluid) * (dtemp_k + dt * forcing_k_s)
+}
+
 /// Schrage kinetic-theory interfacial coefficient K = A · 2σ/(2−σ) · sqrt(M / (2π R_u T)),
 /// kg/(s·Pa) (Schrage 1953; MODEL.md §4).
 pub fn schrage_coefficient<T: Real>(area_m2: T, accommodation: T, molar_mass: f64, t_k: T) -> T {

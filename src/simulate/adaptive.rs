@@ -452,7 +452,8 @@ pub(super) fn integrate<'a, T: Real>(
         }
         let k1: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].k1[j]));
         let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
-        let trial = dopri::trial(g, drive, &s, &k1, t, h, &tol);
+        let evap0 = T::from_fn(|i| lanes[i].last.fluxes.evap_kg_s);
+        let trial = dopri::trial(g, drive, &s, &k1, evap0, t, h, &tol);
         let accepted = T::Mask::from_fn(|i| !lanes[i].done && trial.error.lane(i) <= 1.0);
         // The mid-step probe of every accepted lane, evaluated together.
         let mid = if accepted.any() {
