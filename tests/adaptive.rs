@@ -140,3 +140,22 @@ fn default_tolerances_agree_with_tighter_ones() {
         }
     }
 }
+
+/// A 1 ms gust in the 45-minute coast once held the whole coast to 1/16 of the gust (4.3 M steps
+/// for a 10 ms gust, a minute of wall time): the gust bounds the step only while it blows.
+#[test]
+fn short_gust_bounds_the_step_only_while_it_blows() {
+    let c = load(
+        "lh2_upper_stage",
+        &[
+            "campaign.integrator=dopri5",
+            "phases.2.excitation.kind=gust",
+            "phases.2.excitation.amplitude_m_s2=0.01",
+            "phases.2.excitation.start_s=100",
+            "phases.2.excitation.duration_s=0.001",
+        ],
+    );
+    let q = simulate(&c, &c.params, None);
+    assert!(!q.diverged, "{:?}", q.diverged_reason);
+    assert!(q.steps < 60_000, "{} steps", q.steps);
+}

@@ -80,9 +80,13 @@ pub fn describe(c: &Campaign) -> String {
     let mut t = 0.0;
     for (i, ph) in c.phases.iter().enumerate() {
         let (n, dt) = ph.steps();
+        let steps = match c.stepping.integrator {
+            super::Integrator::Rk4 => format!("{n} steps of {dt:.6} s"),
+            super::Integrator::Dopri5 => format!("first step {} s", ph.dt_s),
+        };
         let _ = writeln!(
             o,
-            "  {i}: {} [{}] t = {t} → {} s, {n} steps of {dt:.6} s, thrust {} N, γ {:.2}°, g {} m/s², pressurize {}, excitation {:?}",
+            "  {i}: {} [{}] t = {t} → {} s, {steps}, thrust {} N, γ {:.2}°, g {} m/s², pressurize {}, excitation {:?}",
             ph.name,
             ph.kind.name(),
             t + ph.duration_s,

@@ -29,7 +29,11 @@ impl Checker<'_> {
         if v.is_finite() && v >= lo && v <= hi {
             Ok(v)
         } else {
-            Err(self.err(key, v, format!("a finite number in [{lo}, {hi}]")))
+            Err(self.err(
+                key,
+                number(v),
+                format!("a finite number in [{}, {}]", number(lo), number(hi)),
+            ))
         }
     }
 
@@ -38,7 +42,11 @@ impl Checker<'_> {
         if v.is_finite() && v > 0.0 && v <= hi {
             Ok(v)
         } else {
-            Err(self.err(key, v, format!("a finite number in (0, {hi}]")))
+            Err(self.err(
+                key,
+                number(v),
+                format!("a finite number in (0, {}]", number(hi)),
+            ))
         }
     }
 
@@ -64,6 +72,16 @@ impl Checker<'_> {
 
     fn required(&self, key: &str, v: Option<f64>) -> Result<f64, CampaignError> {
         v.ok_or_else(|| self.err(key, "(missing)", "a value: this excitation kind needs it"))
+    }
+}
+
+/// A number as a person reads it: plain in [1e-4, 1e6), else in exponent form (1e300 would
+/// otherwise print as 301 digits).
+fn number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1.0e-4..1.0e6).contains(&v.abs()) {
+        v.to_string()
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -514,10 +532,14 @@ fn stepping(c: &Checker, run: &RawRun) -> Result<Stepping, CampaignError> {
     };
     Ok(Stepping {
         integrator,
-        rtol: c.opt_range("campaign.rtol", run.rtol, DEFAULT_RTOL, 1.0e-12, 1.0e-2)?,
-        atol: c.opt_range("campaign.atol", run.atol, DEFAULT_ATOL, 1.0e-15, 1.0e-2)?,
-        max_step_s: c
-            .opt_positive("campaign.max_step_s", run.max_step_s, 1.0e6)?
+        rtol: c.opt_range("campaign.rtol", run.rtol, DEFAULT_RTOL, 1.0e-12, 1.0e-3)?,
+        // atol is a fraction of each slot's scale (the whole fluid mass for the vapour slot):
+        // above 1e-6 it lets the vapour mass go unchecked.
+        atol: c.opt_range("campaign.atol", run.atol, DEFAULT_ATOL, 1.0e-15, 1.0e-6)?,
+        max_step_s: run
+            .max_step_s
+            .map(|v| c.range("campaign.max_step_s", v, 1.0e-5, 1.0e6))
+            .transpose()?
             .unwrap_or(f64::INFINITY),
         allow_coarse_step: run.allow_coarse_step.unwrap_or(false),
     })
@@ -575,8 +597,10 @@ fn phase(
         kind,
         duration_s: duration,
         dt_s: dt,
-        max_step_s: c
-            .opt_positive(&key("max_step_s"), ph.max_step_s, 1.0e6)?
+        max_step_s: ph
+            .max_step_s
+            .map(|v| c.range(&key("max_step_s"), v, 1.0e-5, 1.0e6))
+            .transpose()?
             .unwrap_or(max_step_default),
         thrust_n: thrust,
         flight_path_angle_rad: gamma.to_radians(),

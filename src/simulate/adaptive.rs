@@ -69,7 +69,16 @@ impl LaneRun<'_> {
     fn max_step(&self) -> f64 {
         let ph = self.phase();
         let mut h = ph.max_step_s;
-        if let Some(period) = ph.excitation_period_s() {
+        // A gust bounds the step only while it blows (steps land on its start and end).
+        let blowing = match ph.excitation {
+            crate::model::flight::Excitation::Gust {
+                start_s,
+                duration_s,
+                ..
+            } => self.t_phase >= start_s && self.t_phase < start_s + duration_s,
+            _ => true,
+        };
+        if let Some(period) = ph.excitation_period_s().filter(|_| blowing) {
             h = h.min(period / ADAPTIVE_STEPS_PER_PERIOD);
         }
         let excited = ph.excitation != crate::model::flight::Excitation::None

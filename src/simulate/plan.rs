@@ -44,9 +44,14 @@ pub fn describe_step_plan(c: &Campaign) -> String {
                 h
             }
         };
+        let step = if dt.is_finite() {
+            format!("{dt:.6} s")
+        } else {
+            "unbounded".to_string()
+        };
         let _ = writeln!(
             o,
-            "  {}: {} step {dt:.6} s; slosh period {}; excitation period {}",
+            "  {}: {} step {step}; slosh period {}; excitation period {}",
             ph.name,
             if st.integrator == Integrator::Rk4 {
                 "fixed"
