@@ -908,11 +908,39 @@ fn update_valve(pressure: f32, open: bool) -> bool {
     return open;
 }
 
+/// The fraction of a step where values a → b cross `level`, linearly (simulate::crossing).
+fn crossing(a: f32, b: f32, level: f32) -> f32 {
+    if (a == b) {
+        return 1.0;
+    }
+    return clamp((a - level) / (a - b), 0.0, 1.0);
+}
+
+/// Outcomes of the step from t0 to t1 ending at evaluation ev (LaneRun::outcomes): the bottle
+/// running out (first time), and while burning the tank running dry. True when it ran dry.
+fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval, burning: bool) -> bool {
+    if ((P.flags & FLAG_PRESSURIZATION) != 0u && (*r).exhausted == 0u) {
+        let empty = P.press_bottle_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
+        if (press1 >= empty) {
+            (*r).exhausted = 1u;
+            (*r).exhausted_time_s = t0 + crossing(press0, press1, empty) * (t1 - t0);
+        }
+    }
+    let residual = (*r).m_liquid0_kg * DEPLETION_RESIDUAL_FRACTION;
+    if (!(burning && ev.x.m_l <= residual)) {
+        return false;
+    }
+    (*r).depleted = 1u;
+    (*r).depleted_time_s = t0 + crossing((*r).m_liquid_kg, ev.x.m_l, residual) * (t1 - t0);
+    return true;
+}
+
 fn save_last(r: ptr<function, GpuResult>, x: Derived) {
     (*r).m_vapor_kg = x.m_v;
     (*r).t_layer_k = x.t_s;
     (*r).t_bulk_k = x.t_b;
     (*r).p_ullage_pa = x.p_u;
+    (*r).m_liquid_kg = x.m_l;
 }
 
 // One dispatch advances every unfinished instance by up to control.step_budget steps and
@@ -951,6 +979,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let ev0 = evaluate(&hi, d0, ph0.dt);
         observe(&r, &hi, 0.0, ev0, d0);
         r.m_vapor0_kg = ev0.x.m_v;
+        r.m_liquid0_kg = ev0.x.m_l;
         save_last(&r, ev0.x);
     } else {
         for (var j = 0u; j < NS; j++) {
@@ -968,7 +997,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var k4: St;
     var budget = control.step_budget;
     loop {
-        if (ip >= P.n_phases || r.diverged != 0u) {
+        if (ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u) {
             break;
         }
         let ph = phases[base + ip];
@@ -988,6 +1017,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (!have_k1) {
             k1 = evaluate(&hi, phase_drive(ph, tp, valve), dt).ds;
         }
+        let hi_prev = hi;
+        let lo_prev = lo;
         k2 = rates_at(&hi, 0.5 * dt, &k1, dm, dt);
         k3 = rates_at(&hi, 0.5 * dt, &k2, dm, dt);
         k4 = rates_at(&hi, dt, &k3, phase_drive(ph, tp + dt, valve), dt);
@@ -1007,6 +1038,16 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let d = phase_drive(ph, tn, valve);
         let ev = evaluate(&hi, d, dt);
         let bad = check_state(&hi, ev.x);
+        let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
+        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, d.burning)) {
+            if (bad.x == 0.0) {
+                save_last(&r, ev.x);
+            } else {
+                hi = hi_prev;
+                lo = lo_prev;
+            }
+            break;
+        }
         if (bad.x != 0.0) {
             r.diverged = u32(bad.x);
             r.diverged_value = bad.y;
@@ -1017,6 +1058,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         observe(&r, &hi, t, ev, d);
         let before = valve;
         valve = update_valve(ev.x.p_u, valve);
+        if (valve && !before) {
+            r.relief_cycles += 1u;
+        }
         have_k1 = valve == before && k != ph.n_steps;
         k1 = ev.ds;
         save_last(&r, ev.x);
@@ -1025,7 +1069,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     r.step_in_phase = k;
     r.valve_open = u32(valve);
     r.have_k1 = u32(have_k1);
-    r.done = u32(ip >= P.n_phases || r.diverged != 0u);
+    r.done = u32(ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u);
     for (var j = 0u; j < NS; j++) {
         r.s_hi[j] = hi[j];
         r.s_lo[j] = lo[j];

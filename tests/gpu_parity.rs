@@ -69,8 +69,17 @@ fn compare(name: &str, level: &str, cpu: &[InstanceRecord], gpu: &[InstanceRecor
         assert_eq!(c.inputs, g.inputs, "{name}/{level}: inputs differ");
         assert_eq!(c.rejected, g.rejected, "{name}/{level}: rejection differs");
         let (c, g) = (&c.summary, &g.summary);
-        if (c.cavitation, c.overpressure, c.diverged) == (g.cavitation, g.overpressure, g.diverged)
-        {
+        let flags = |q: &Summary| {
+            (
+                q.cavitation,
+                q.overpressure,
+                q.diverged,
+                q.pressurant_exhausted,
+                q.depleted,
+                q.relief_cycles,
+            )
+        };
+        if flags(c) == flags(g) {
             flag_agree += 1;
         }
     }
@@ -201,4 +210,28 @@ fn gpu_matches_cpu_with_a_table_excitation() {
         .chain(&b)
         .all(|r| !r.rejected && !r.summary.diverged));
     compare("lox_ascent_table", "lumped", &a, &b);
+}
+
+/// A burn that outlasts the propellant ends depleted on both backends, at the same time.
+#[test]
+fn gpu_matches_cpu_when_the_tank_runs_dry() {
+    let c = load(
+        "lox_ascent",
+        &["phases.0.duration_s=1", "phases.1.duration_s=200"],
+    );
+    let Some(gpu) = engine() else { return };
+    let cpu = CpuEngine::new(0).unwrap();
+    let plan = Plan {
+        campaign: &c,
+        seed: c.seed,
+        total: 4,
+    };
+    let a = cpu.run_block(&plan, 0..4).unwrap();
+    let b = gpu.run_block(&plan, 0..4).unwrap();
+    for (a, b) in a.iter().zip(&b) {
+        let (a, b) = (&a.summary, &b.summary);
+        assert!(a.depleted && b.depleted && !a.diverged && !b.diverged);
+        let (ta, tb) = (a.depleted_time_s.unwrap(), b.depleted_time_s.unwrap());
+        assert!((ta - tb).abs() < 1e-3 * ta, "{ta} vs {tb}");
+    }
 }

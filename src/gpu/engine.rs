@@ -264,6 +264,11 @@ fn summarize(p: &Params, s0: &State, r: &GpuResult, phase_names: &[String]) -> S
         max_slosh_angle_rad: f(r.max_slosh_angle_rad),
         peak_slosh_force_n: f(r.peak_slosh_force_n),
         peak_slosh_moment_n_m: f(r.peak_slosh_moment_n_m),
+        relief_cycles: u64::from(r.relief_cycles),
+        pressurant_exhausted: r.exhausted != 0,
+        pressurant_exhausted_time_s: (r.exhausted != 0).then(|| f(r.exhausted_time_s)),
+        depleted: r.depleted != 0,
+        depleted_time_s: (r.depleted != 0).then(|| f(r.depleted_time_s)),
         diverged,
         diverged_reason: diverged.then(|| {
             let what = DIVERGED_REASONS

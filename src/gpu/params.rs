@@ -147,6 +147,15 @@ gpu_struct! {
         pub peak_slosh_moment_n_m: f32,
         pub final_time_s: f32,
         pub m_vapor0_kg: f32,
+        /// Liquid mass at the start and after the last step, kg (depletion).
+        pub m_liquid0_kg: f32,
+        pub m_liquid_kg: f32,
+        /// Relief-valve openings; pressurant exhausted and tank dry, with their times.
+        pub relief_cycles: u32,
+        pub exhausted: u32,
+        pub exhausted_time_s: f32,
+        pub depleted: u32,
+        pub depleted_time_s: f32,
         pub m_vapor_kg: f32,
         pub t_layer_k: f32,
         pub t_bulk_k: f32,
@@ -439,6 +448,14 @@ pub fn constants_wgsl() -> String {
         ("R_UNIVERSAL", R_UNIVERSAL),
         ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
         ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),
+        (
+            "DEPLETION_RESIDUAL_FRACTION",
+            crate::simulate::DEPLETION_RESIDUAL_FRACTION,
+        ),
+        (
+            "PRESSURANT_EMPTY_FRACTION",
+            crate::simulate::PRESSURANT_EMPTY_FRACTION,
+        ),
     ] {
         s += &format!("const {name}: f32 = {v:e};\n");
     }

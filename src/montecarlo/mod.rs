@@ -497,6 +497,17 @@ pub fn summary_text(r: &RunReport) -> String {
         stat("vented_kg", "p99"),
         stat("max_slosh_angle_rad", "p99")
     );
+    for (name, what) in [
+        ("depleted", "ran dry (depleted)"),
+        ("pressurant_exhausted", "pressurant exhausted"),
+    ] {
+        if let Some(x) = find(s, name, "fraction").filter(|x| x.value > 0.0) {
+            out += &format!(
+                "{what:18} P = {:.4} [{:.4}, {:.4}] of {} valid instances\n",
+                x.value, x.ci_low, x.ci_high, x.n
+            );
+        }
+    }
     for q in statistics::SENSITIVITY_QOIS {
         let mut drivers: Vec<&Row> = s
             .iter()

@@ -96,6 +96,22 @@ pub fn compute(
         ));
     }
 
+    // Outcomes among the valid instances, with their Clopper–Pearson intervals.
+    for name in ["depleted", "pressurant_exhausted"] {
+        let ones: Vec<f64> = read_bool(path, name)?
+            .iter()
+            .map(|&x| f64::from(u8::from(x)))
+            .collect();
+        rows.push(exceed_row(
+            name,
+            "fraction",
+            &keep(ones),
+            0.5,
+            Direction::Above,
+            level,
+        ));
+    }
+
     // Tail probabilities of the design margins, computed while their column is loaded.
     let exceedances = [
         (

@@ -18,7 +18,7 @@ pub type Qoi = (&'static str, fn(&Summary) -> f64);
 
 /// f64 quantities of interest per instance, with how to read them from a [`Summary`]. Missing
 /// values (no engine draw: no cavitation margin) are NaN and skipped by the statistics.
-pub const QOI_F64: [Qoi; 18] = [
+pub const QOI_F64: [Qoi; 20] = [
     ("peak_pressure_pa", |q| q.peak_pressure_pa),
     ("peak_pressure_time_s", |q| q.peak_pressure_time_s),
     ("min_pressure_pa", |q| q.min_pressure_pa),
@@ -43,10 +43,31 @@ pub const QOI_F64: [Qoi; 18] = [
     ("peak_slosh_moment_n_m", |q| q.peak_slosh_moment_n_m),
     ("final_stratification_k", |q| q.final_stratification_k),
     ("final_time_s", |q| q.final_time_s),
+    ("pressurant_exhausted_time_s", |q| {
+        q.pressurant_exhausted_time_s.unwrap_or(f64::NAN)
+    }),
+    ("depleted_time_s", |q| q.depleted_time_s.unwrap_or(f64::NAN)),
 ];
 
-/// Boolean flags per instance.
-pub const FLAGS: [&str; 4] = ["cavitation", "overpressure", "diverged", "rejected"];
+/// A count column: its name and how to read it from a [`Summary`].
+pub type Count = (&'static str, fn(&Summary) -> u64);
+
+/// Counts per instance after `instance`: accepted steps and relief-valve openings.
+pub const COUNTS: [Count; 2] = [
+    ("steps", |q| q.steps),
+    ("relief_cycles", |q| q.relief_cycles),
+];
+
+/// Boolean flags per instance: outcomes (cavitation, overpressure, the pressurant running out,
+/// the tank running dry) and validity (diverged, rejected).
+pub const FLAGS: [&str; 6] = [
+    "cavitation",
+    "overpressure",
+    "pressurant_exhausted",
+    "depleted",
+    "diverged",
+    "rejected",
+];
 
 /// Column buffer of one kind.
 #[derive(Clone, Debug)]
@@ -69,7 +90,11 @@ pub fn schema(input_columns: &[String]) -> Vec<ColumnSpec> {
             .iter()
             .map(|(n, _)| ColumnSpec::new(*n, ColumnKind::F64)),
     );
-    specs.push(ColumnSpec::new("steps", ColumnKind::U64));
+    specs.extend(
+        COUNTS
+            .iter()
+            .map(|(n, _)| ColumnSpec::new(*n, ColumnKind::U64)),
+    );
     specs.extend(FLAGS.iter().map(|n| ColumnSpec::new(*n, ColumnKind::Bool)));
     specs
 }
@@ -120,15 +145,19 @@ impl InstanceWriter {
             .iter()
             .copied()
             .chain(QOI_F64.iter().map(|(_, get)| nan_if_rejected(get(q))));
-        let flags = [q.cavitation, q.overpressure, q.diverged, r.rejected];
+        let flags = [
+            q.cavitation,
+            q.overpressure,
+            q.pressurant_exhausted,
+            q.depleted,
+            q.diverged,
+            r.rejected,
+        ];
         let mut flag = flags.iter();
-        let mut first_u64 = true;
+        let mut u64s = std::iter::once(r.instance).chain(COUNTS.iter().map(|(_, get)| get(q)));
         for b in &mut self.bufs {
             match b {
-                Buf::U64(v) => {
-                    v.push(if first_u64 { r.instance } else { q.steps });
-                    first_u64 = false;
-                }
+                Buf::U64(v) => v.push(u64s.next().unwrap_or(0)),
                 Buf::F64(v) => v.push(f64s.next().unwrap_or(f64::NAN)),
                 Buf::Bool(v) => v.push(*flag.next().unwrap_or(&false)),
             }

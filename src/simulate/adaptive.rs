@@ -213,6 +213,19 @@ impl LaneRun<'_> {
         self.steps += 1;
         let mission = self.phase_start_s + t_end;
         self.t = mission;
+        if self.outcomes(
+            self.phase_start_s + t0,
+            mission,
+            &s_end,
+            &ev_end,
+            d_end.burning,
+        ) {
+            self.t_phase = t_end;
+            return true;
+        }
+        if cut.is_some() && !open {
+            self.tracker.summary.relief_cycles += 1;
+        }
         if let Some(reason) = super::check_state(p, &s_end, &ev_end.derived) {
             let name = &self.phase().name;
             let q = &mut self.tracker.summary;

@@ -40,6 +40,15 @@ pub struct Summary {
     pub final_stratification_k: f64,
     pub final_pressure_pa: f64,
     pub diverged: bool,
+    /// Relief-valve openings (closed → open switches).
+    pub relief_cycles: u64,
+    /// The pressurant bottle reached its last [`PRESSURANT_EMPTY_FRACTION`], and when, s.
+    pub pressurant_exhausted: bool,
+    pub pressurant_exhausted_time_s: Option<f64>,
+    /// The tank ran dry while the engine drew: the liquid fell to [`DEPLETION_RESIDUAL_FRACTION`]
+    /// of its initial mass. An outcome, not a divergence: the instance ends there.
+    pub depleted: bool,
+    pub depleted_time_s: Option<f64>,
     /// What left which range, and when (None unless diverged).
     pub diverged_reason: Option<String>,
     pub final_time_s: f64,
@@ -53,6 +62,23 @@ pub struct Summary {
     pub mass_error_rel: f64,
     /// |Δ energy invariant| / energy scale (see [`energy_scale`]).
     pub energy_error_rel: f64,
+}
+
+/// Share of the initial liquid mass left when the tank counts as dry: the engine stops drawing
+/// (unusable residual; the lumped nodes are no longer meaningful below it).
+pub const DEPLETION_RESIDUAL_FRACTION: f64 = 1.0e-3;
+/// Share of the bottle left when the pressurant counts as exhausted: the flow fades to zero over
+/// it (`model::boundary::boundary_flows`).
+pub const PRESSURANT_EMPTY_FRACTION: f64 = 1.0e-3;
+
+/// The fraction of a step, from values `a` at its start and `b` at its end, where a linear
+/// interpolation crosses `level` (the values are nearly linear over a step: a constant draw).
+fn crossing(a: f64, b: f64, level: f64) -> f64 {
+    if a == b {
+        1.0
+    } else {
+        ((a - level) / (a - b)).clamp(0.0, 1.0)
+    }
 }
 
 /// Names of the f64 time-history columns, in order (DESIGN.md "time history").
@@ -408,6 +434,8 @@ struct LaneRun<'a> {
     landing: adaptive::Landing,
     rejected: u64,
     evaluations: u64,
+    /// Liquid mass at the start, kg (the depletion residual is a share of it).
+    m_liquid0: f64,
 }
 
 impl<'a> LaneRun<'a> {
@@ -445,6 +473,7 @@ impl<'a> LaneRun<'a> {
             landing: adaptive::Landing::Free,
             rejected: 0,
             evaluations: 1,
+            m_liquid0: ev0.derived.m_liquid_kg,
         }
     }
 
@@ -455,6 +484,37 @@ impl<'a> LaneRun<'a> {
     /// The trajectory of this lane at time `t` of its current phase.
     fn drive(&self, t: f64) -> Drive {
         Drive::of_phase(self.phase(), t, self.valve)
+    }
+
+    /// Outcomes of the step from the last good state (mission time `t0`) to state `s` with
+    /// evaluation `ev` at `t1`: the pressurant running out (first time) and, while the engine
+    /// draws, the tank running dry, which ends the instance. Returns true when it ran dry; the
+    /// end state is kept if it passes the checks, else the last good one.
+    fn outcomes(&mut self, t0: f64, t1: f64, s: &State, ev: &Evaluation, burning: bool) -> bool {
+        let p = self.params;
+        let q = &mut self.tracker.summary;
+        if let Some(pr) = p.pressurization.filter(|_| !q.pressurant_exhausted) {
+            let empty = pr.bottle_mass_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
+            if s[PRESS_IN] >= empty {
+                let th = crossing(self.last_state[PRESS_IN], s[PRESS_IN], empty);
+                q.pressurant_exhausted = true;
+                q.pressurant_exhausted_time_s = Some(t0 + th * (t1 - t0));
+            }
+        }
+        let residual = self.m_liquid0 * DEPLETION_RESIDUAL_FRACTION;
+        let m_liquid = ev.derived.m_liquid_kg;
+        if !(burning && m_liquid <= residual) {
+            return false;
+        }
+        let th = crossing(self.last.derived.m_liquid_kg, m_liquid, residual);
+        q.depleted = true;
+        q.depleted_time_s = Some(t0 + th * (t1 - t0));
+        if check_state(p, s, &ev.derived).is_none() {
+            self.last_state = *s;
+            self.last = *ev;
+        }
+        self.done = true;
+        true
     }
 
     /// Book-keeping after a step to state `s` with evaluation `ev` under drive `d`: divergence,
@@ -470,6 +530,9 @@ impl<'a> LaneRun<'a> {
         self.steps += 1;
         self.t += self.dt;
         let t = self.t;
+        if self.outcomes(t - self.dt, t, s, ev, d.burning) {
+            return true;
+        }
         if let Some(reason) = check_state(p, s, &ev.derived) {
             let name = &self.phase().name;
             let q = &mut self.tracker.summary;
@@ -482,6 +545,7 @@ impl<'a> LaneRun<'a> {
         self.tracker.observe(p, t, s, ev, d);
         let before = self.valve;
         self.valve = model::update_valve(Group::one(p), ev.derived.p_ullage_pa, self.valve);
+        self.tracker.summary.relief_cycles += u64::from(self.valve && !before);
         let phase_end = self.k + 1 == self.n;
         self.reuse = self.valve == before && !phase_end;
         if let Some(h) = history {
@@ -641,5 +705,20 @@ pub fn describe_summary(q: &Summary) -> String {
         q.mass_error_rel,
         q.energy_error_rel,
         if q.diverged { " — DIVERGED" } else { "" },
-    )
+    ) + &outcomes_text(q)
+}
+
+/// The outcome lines of a summary: relief cycles, pressurant exhaustion, depletion.
+fn outcomes_text(q: &Summary) -> String {
+    let mut o = String::new();
+    if q.relief_cycles > 0 {
+        o += &format!("\nrelief valve opened {} times", q.relief_cycles);
+    }
+    if let Some(t) = q.pressurant_exhausted_time_s {
+        o += &format!("\npressurant exhausted at t = {t:.1} s");
+    }
+    if let Some(t) = q.depleted_time_s {
+        o += &format!("\nDEPLETED: the tank ran dry at t = {t:.3} s (the engine stopped drawing)");
+    }
+    o
 }
