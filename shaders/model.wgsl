@@ -271,7 +271,7 @@ fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
     let m_s = max((*s)[M_S], 1.0e-12);
     let m_b = max((*s)[M_B], 1.0e-12);
     x.t_s = fl_t_from_h_l((*s)[H_S] / m_s);
-    x.t_b = fl_t_from_h_l((*s)[H_B] / m_b);
+    x.t_b = select(fl_t_from_h_l((*s)[H_B] / m_b), x.t_s, (*s)[M_B] <= 0.0);
     x.rho_s = fl_rho_l(x.t_s);
     x.rho_b = fl_rho_l(x.t_b);
     x.v_s = (*s)[M_S] / x.rho_s;
@@ -668,13 +668,14 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let h_wl = h_w.x;
     let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
-    let c_bulk = max((*s)[M_B], 1.0e-9) * liq.cp;
+    let bulk_gone = (*s)[M_B] <= 0.0;
+    let c_bulk = max(select((*s)[M_B], (*s)[M_S], bulk_gone), 1.0e-9) * liq.cp;
     let c_gas = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
     let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b);
     let depth = x.v_s / a_i;
     let a_ws = clamp(a_wet - tank_wetted_area(x.level - depth), 0.0, a_wet);
     let contact = a_ws / max(a_wet, 1.0e-12);
-    let to_layer = contact + P.wall_heat_to_layer * (1.0 - contact);
+    let to_layer = select(contact + P.wall_heat_to_layer * (1.0 - contact), 1.0, bulk_gone);
     let q_ws = to_layer * q_wl;
     let q_wb = (1.0 - to_layer) * q_wl;
     let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas, x.t_wd - t_u);
@@ -908,6 +909,28 @@ fn update_valve(pressure: f32, open: bool) -> bool {
     return open;
 }
 
+/// Move slot `src` into slot `dst` on the hi + lo words, keeping the rounding in lo.
+fn absorb(hi: ptr<function, St>, lo: ptr<function, St>, dst: u32, src: u32) {
+    let t = ((*hi)[dst] + (*hi)[src]) * control.one;
+    let err = (*hi)[src] - (t - (*hi)[dst]);
+    (*lo)[dst] = (*lo)[dst] + (*lo)[src] + err;
+    (*hi)[dst] = t;
+    (*hi)[src] = 0.0;
+    (*lo)[src] = 0.0;
+}
+
+/// Merge a nearly empty bulk node into the layer (model::merge_empty_bulk). True if it merged.
+fn merge_empty_bulk(hi: ptr<function, St>, lo: ptr<function, St>) -> bool {
+    let m_b = (*hi)[M_B] + (*lo)[M_B];
+    let m_s = (*hi)[M_S] + (*lo)[M_S];
+    if (P.fidelity == FID_HOMOGENEOUS || m_b <= 0.0 || m_b > BULK_MERGE_FRACTION * (m_b + m_s)) {
+        return false;
+    }
+    absorb(hi, lo, M_S, M_B);
+    absorb(hi, lo, H_S, H_B);
+    return true;
+}
+
 /// The fraction of a step where values a → b cross `level`, linearly (simulate::crossing).
 fn crossing(a: f32, b: f32, level: f32) -> f32 {
     if (a == b) {
@@ -1029,6 +1052,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             lo[j] = inc - (sum - hi[j]);
             hi[j] = sum;
         }
+        let merged = merge_empty_bulk(&hi, &lo);
         r.steps += 1u;
         budget -= 1u;
         k += 1u;
@@ -1061,7 +1085,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (valve && !before) {
             r.relief_cycles += 1u;
         }
-        have_k1 = valve == before && k != ph.n_steps;
+        have_k1 = valve == before && k != ph.n_steps && !merged;
         k1 = ev.ds;
         save_last(&r, ev.x);
     }

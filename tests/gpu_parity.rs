@@ -235,3 +235,35 @@ fn gpu_matches_cpu_when_the_tank_runs_dry() {
         assert!((ta - tb).abs() < 1e-3 * ta, "{ta} vs {tb}");
     }
 }
+
+/// The bulk node merging into the layer at low fill happens alike on both backends.
+#[test]
+fn gpu_matches_cpu_when_the_bulk_merges() {
+    let c = load("lch4_coast", &["propellant.fill_fraction=0.02"]);
+    let Some(gpu) = engine() else { return };
+    let cpu = CpuEngine::new(0).unwrap();
+    let plan = Plan {
+        campaign: &c,
+        seed: c.seed,
+        total: 2,
+    };
+    let a = cpu.run_block(&plan, 0..2).unwrap();
+    let b = gpu.run_block(&plan, 0..2).unwrap();
+    for (a, b) in a.iter().zip(&b) {
+        let (a, b) = (&a.summary, &b.summary);
+        assert!(
+            !a.diverged && !b.diverged,
+            "{:?} / {:?}",
+            a.diverged_reason,
+            b.diverged_reason
+        );
+        assert_eq!(a.final_stratification_k, 0.0);
+        assert!(
+            (a.boiloff_kg / b.boiloff_kg - 1.0).abs() < 1e-3,
+            "{} vs {}",
+            a.boiloff_kg,
+            b.boiloff_kg
+        );
+        assert_eq!(a.relief_cycles, b.relief_cycles);
+    }
+}

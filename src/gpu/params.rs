@@ -448,6 +448,7 @@ pub fn constants_wgsl() -> String {
         ("R_UNIVERSAL", R_UNIVERSAL),
         ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
         ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),
+        ("BULK_MERGE_FRACTION", crate::model::BULK_MERGE_FRACTION),
         (
             "DEPLETION_RESIDUAL_FRACTION",
             crate::simulate::DEPLETION_RESIDUAL_FRACTION,

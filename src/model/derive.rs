@@ -288,7 +288,10 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T>
     let m_s = s[M_S].max_c(1.0e-12);
     let m_b = s[M_B].max_c(1.0e-12);
     out.t_layer_k = fluid.t_from_h_l_k(s[H_S] / m_s);
-    out.t_bulk_k = fluid.t_from_h_l_k(s[H_B] / m_b);
+    // A merged (empty) bulk takes the layer's temperature (`model::merge_empty_bulk`).
+    let bulk_gone = s[M_B].le(c(0.0));
+    let h_bulk = T::select(bulk_gone, s[H_S] / m_s, s[H_B] / m_b);
+    out.t_bulk_k = T::select(bulk_gone, out.t_layer_k, fluid.t_from_h_l_k(h_bulk));
     out.rho_layer = f.rho_l_kg_per_m3(out.t_layer_k);
     out.rho_bulk = f.rho_l_kg_per_m3(out.t_bulk_k);
     out.v_layer_m3 = s[M_S] / out.rho_layer;

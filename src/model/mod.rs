@@ -137,6 +137,27 @@ fn axpy<T: Real>(s: &State<T>, a: T, k: &State<T>) -> State<T> {
     out
 }
 
+/// Share of the liquid below which the bulk node is merged into the warm layer.
+pub const BULK_MERGE_FRACTION: f64 = 1.0e-4;
+
+/// Merge a nearly empty bulk node into the layer, conserving mass and enthalpy exactly: when
+/// the layer has entrained the bulk (a long coast at low fill), T_b = T(H_b/m_b) of a vanishing
+/// node is ill-conditioned and the instance used to diverge. Afterwards the bulk stays empty
+/// (nothing flows into it) and takes the layer's temperature. Returns whether it merged.
+pub fn merge_empty_bulk(p: &Params, s: &mut State) -> bool {
+    if p.fidelity == Fidelity::Homogeneous
+        || s[state::M_B] <= 0.0
+        || s[state::M_B] > BULK_MERGE_FRACTION * (s[state::M_B] + s[state::M_S])
+    {
+        return false;
+    }
+    s[state::M_S] += s[state::M_B];
+    s[state::H_S] += s[state::H_B];
+    s[state::M_B] = 0.0;
+    s[state::H_B] = 0.0;
+    true
+}
+
 /// Relief-valve hysteresis: open at or above the crack pressure, closed at or below reseat.
 pub fn update_valve<T: Real>(g: Group<'_>, pressure_pa: T, open: T::Mask) -> T::Mask {
     if g.shared().relief.is_none() {

@@ -203,7 +203,9 @@ pub fn rhs<T: Real>(
     // interface and its own depth, the bulk the rest. A single wall node at the bulk temperature
     // must not cool the warmer layer through that band, hence the flux split, not h (T_w − T_s).
     let c_wall: T = g.get(Params::wall_heat_capacity_j_per_k);
-    let c_bulk = s[M_B].max_c(1.0e-9) * liq.cp;
+    // Once the bulk is merged into the layer the wetted wall feeds the layer alone.
+    let bulk_gone = s[M_B].le(c(0.0));
+    let c_bulk = T::select(bulk_gone, s[M_S], s[M_B]).max_c(1.0e-9) * liq.cp;
     let c_gas = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
     let warming = g.get::<T>(|p| p.heat_leak_w) / c_wall;
     let q_wl = thermal::wall_exchange(
@@ -220,7 +222,7 @@ pub fn rhs<T: Real>(
     let contact = a_ws / a_wet.max_c(1.0e-12);
     // Optionally the wall boundary layer lifts part of the bulk's share to the surface.
     let lift: T = g.get(|p| p.stratification.wall_heat_to_layer);
-    let to_layer = contact + lift * contact.rsub(1.0);
+    let to_layer = T::select(bulk_gone, c(1.0), contact + lift * contact.rsub(1.0));
     let (q_ws, q_wb) = (to_layer * q_wl, to_layer.rsub(1.0) * q_wl);
     let q_wu = thermal::wall_exchange(
         h_wu * a_dry,

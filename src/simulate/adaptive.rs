@@ -192,7 +192,7 @@ impl LaneRun<'_> {
                 }
             }
         }
-        let (theta_end, s_end, ev_end, d_end) = match cut {
+        let (theta_end, mut s_end, mut ev_end, d_end) = match cut {
             Some(theta) => {
                 self.valve = !open;
                 let s = dense.at(theta);
@@ -201,6 +201,10 @@ impl LaneRun<'_> {
             }
             None => (1.0, *y1, *ev1, self.drive(t0 + h)),
         };
+        if model::merge_empty_bulk(p, &mut s_end) {
+            self.evaluations += 1;
+            ev_end = model::evaluate(Group::one(p), &s_end, &d_end, h);
+        }
         let t_end = if cut.is_none() {
             match self.landing {
                 Landing::PhaseEnd => self.phase().duration_s,

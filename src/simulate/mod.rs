@@ -436,6 +436,9 @@ struct LaneRun<'a> {
     evaluations: u64,
     /// Liquid mass at the start, kg (the depletion residual is a share of it).
     m_liquid0: f64,
+    /// The last step merged an empty bulk node into the layer: the group's copy of this lane's
+    /// state is stale.
+    merged: bool,
 }
 
 impl<'a> LaneRun<'a> {
@@ -474,6 +477,7 @@ impl<'a> LaneRun<'a> {
             rejected: 0,
             evaluations: 1,
             m_liquid0: ev0.derived.m_liquid_kg,
+            merged: false,
         }
     }
 
@@ -527,6 +531,13 @@ impl<'a> LaneRun<'a> {
         history: Option<&mut History>,
     ) -> bool {
         let p = self.params;
+        let (mut merged_state, mut merged_ev) = (*s, *ev);
+        self.merged = model::merge_empty_bulk(p, &mut merged_state);
+        if self.merged {
+            self.evaluations += 1;
+            merged_ev = model::evaluate(Group::one(p), &merged_state, d, self.dt);
+        }
+        let (s, ev) = (&merged_state, &merged_ev);
         self.steps += 1;
         self.t += self.dt;
         let t = self.t;
@@ -547,7 +558,7 @@ impl<'a> LaneRun<'a> {
         self.valve = model::update_valve(Group::one(p), ev.derived.p_ullage_pa, self.valve);
         self.tracker.summary.relief_cycles += u64::from(self.valve && !before);
         let phase_end = self.k + 1 == self.n;
-        self.reuse = self.valve == before && !phase_end;
+        self.reuse = self.valve == before && !phase_end && !self.merged;
         if let Some(h) = history {
             let interval = self.campaign.output_interval_s;
             if t >= self.next_sample - 1.0e-9 * interval || phase_end {
@@ -650,11 +661,13 @@ fn integrate_fixed<'a, T: Real>(
                 diverged = diverged | T::Mask::from_fn(|j| j == i);
             }
         }
-        if diverged.any() {
-            // A diverged lane goes on from its last good state, so that no NaN slows the others.
+        // A diverged lane goes on from its last good state, so that no NaN slows the others; a
+        // lane whose bulk merged goes on from the merged state.
+        let stale = diverged | T::Mask::from_fn(|i| lanes[i].merged);
+        if stale.any() {
             let good: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].last_state[j]));
             for (sj, gj) in s.iter_mut().zip(good) {
-                *sj = T::select(diverged, gj, *sj);
+                *sj = T::select(stale, gj, *sj);
             }
         }
         k1 = Some(ev.rates);
