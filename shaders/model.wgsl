@@ -874,8 +874,11 @@ fn cavitation_margin(s: ptr<function, St>, x: Derived) -> vec2<f32> {
 fn observe(r: ptr<function, GpuResult>, s: ptr<function, St>, t: f32, ev: Eval, d: Drive) {
     let pu = ev.x.p_u;
     if (pu > (*r).peak_pressure_pa) {
+        // A later peak within f32 rounding of the first is the same peak (simulate::observe).
+        if (pu > (*r).peak_pressure_pa + 1.0e-6 * abs((*r).peak_pressure_pa)) {
+            (*r).peak_pressure_time_s = t;
+        }
         (*r).peak_pressure_pa = pu;
-        (*r).peak_pressure_time_s = t;
     }
     if (pu < (*r).min_pressure_pa) {
         (*r).min_pressure_pa = pu;

@@ -22,6 +22,10 @@ pub fn provenance(c: &Campaign, backend: &str, shard: &str) -> Vec<(String, Stri
             "cryoslosh.fidelity".into(),
             c.params.fidelity.name().to_string(),
         ),
+        (
+            "cryoslosh.integrator".into(),
+            crate::montecarlo::integrator_text(c),
+        ),
     ]
 }
 

@@ -76,7 +76,21 @@ pub struct RunReport {
     pub seed: u64,
     pub shard: String,
     pub design: String,
+    /// The integrator and, when adaptive, its tolerances.
+    pub integrator: String,
     pub statistics: Vec<Row>,
+}
+
+/// The integrator as `run.json` and the Parquet metadata record it: `rk4`, or `dopri5` with
+/// its tolerances.
+pub fn integrator_text(c: &Campaign) -> String {
+    let st = &c.stepping;
+    match st.integrator {
+        crate::campaign::Integrator::Rk4 => "rk4".into(),
+        crate::campaign::Integrator::Dopri5 => {
+            format!("dopri5 (rtol {:e}, atol {:e})", st.rtol, st.atol)
+        }
+    }
 }
 
 /// Why a run or merge failed.
@@ -258,6 +272,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         seed: o.seed,
         shard: o.shard.to_string(),
         design: c.dispersions.design.name().into(),
+        integrator: integrator_text(c),
         statistics: rows,
     };
     write_run_json(&o.out_dir, &report, o.instances)?;
@@ -310,6 +325,7 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "seed": r.seed,
         "shard": r.shard,
         "design": r.design,
+        "integrator": r.integrator,
         "version": crate::VERSION,
     });
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
@@ -437,6 +453,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
         seed: first.run["seed"].as_u64().unwrap_or(0),
         shard: Shard::ALL.to_string(),
         design: c.dispersions.design.name().into(),
+        integrator: integrator_text(&c),
         statistics: stats,
     };
     write_run_json(out, &report, total)?;

@@ -64,6 +64,9 @@ pub struct Summary {
     pub energy_error_rel: f64,
 }
 
+/// Relative difference below which two pressure peaks are the same peak (CPU, f64).
+const PEAK_TIE_REL: f64 = 1.0e-9;
+
 /// Share of the initial liquid mass left when the tank counts as dry: the engine stops drawing
 /// (unusable residual; the lumped nodes are no longer meaningful below it).
 pub const DEPLETION_RESIDUAL_FRACTION: f64 = 1.0e-3;
@@ -255,8 +258,12 @@ impl Tracker {
         let q = &mut self.summary;
         let pu = x.p_ullage_pa;
         if pu > q.peak_pressure_pa {
+            // A relief valve caps the pressure at its crack every cycle: a later peak within
+            // rounding of the first is the same peak, and its time is when it was first reached.
+            if pu > q.peak_pressure_pa + PEAK_TIE_REL * q.peak_pressure_pa.abs() {
+                q.peak_pressure_time_s = t;
+            }
             q.peak_pressure_pa = pu;
-            q.peak_pressure_time_s = t;
         }
         if pu < q.min_pressure_pa {
             q.min_pressure_pa = pu;
