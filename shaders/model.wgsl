@@ -256,7 +256,8 @@ fn motion(s: ptr<function, St>, d: Drive, x: ptr<function, Derived>, nu_liquid: 
     (*x).drag = drag;
     (*x).a_ax = max(a + d.gravity + d.a_ax_extra, MIN_AXIAL_ACCEL);
     let v_l = (*x).v_s + (*x).v_b;
-    (*x).sl = slosh_params(v_l, (*x).m_l, (*x).level, (*x).a_ax, nu_liquid);
+    let a_total = sqrt((*x).a_ax * (*x).a_ax + d.a_lat * d.a_lat);
+    (*x).sl = slosh_params(v_l, (*x).m_l, (*x).level, a_total, nu_liquid);
 }
 
 fn slosh_angle(s: ptr<function, St>, sl: Slosh) -> f32 {
@@ -934,6 +935,20 @@ fn merge_empty_bulk(hi: ptr<function, St>, lo: ptr<function, St>) -> bool {
     return true;
 }
 
+/// Accumulate the time the slosh analog spends outside its range (LaneRun::slosh_validity).
+fn slosh_validity(r: ptr<function, GpuResult>, s: ptr<function, St>, dt: f32, ev: Eval, d: Drive) {
+    if (P.fidelity == FID_HOMOGENEOUS) {
+        return;
+    }
+    let a = sqrt(ev.x.a_ax * ev.x.a_ax + d.a_lat * d.a_lat);
+    let sigma = P.sigma0 * pow(max(1.0 - ev.x.t_s / P.sigma_tc, 0.0), P.sigma_exp);
+    let bond = ev.x.rho_b * a * TANK.radius * TANK.radius / sigma;
+    if (bond < SLOSH_BOND_MIN || abs(slosh_angle(s, ev.x.sl)) > SLOSH_ANGLE_MAX_RAD) {
+        (*r).slosh_out = 1u;
+        (*r).slosh_out_time_s += dt;
+    }
+}
+
 /// The fraction of a step where values a → b cross `level`, linearly (simulate::crossing).
 fn crossing(a: f32, b: f32, level: f32) -> f32 {
     if (a == b) {
@@ -1083,6 +1098,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             break;
         }
         observe(&r, &hi, t, ev, d);
+        slosh_validity(&r, &hi, dt, ev, d);
         let before = valve;
         valve = update_valve(ev.x.p_u, valve);
         if (valve && !before) {

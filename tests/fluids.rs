@@ -584,3 +584,30 @@ fn everything_is_total() {
         assert!(mu.is_finite() && mu > 0.0, "helium mu({v:e}) = {mu}");
     }
 }
+
+/// Surface tension (for the slosh analog's Bond number) against CoolProp 8.0 along saturation:
+/// within 3 % for LH2, 1 % for LCH4 and 0.1 % for LOX and LN2 (`tools/surface_tension.py`).
+#[test]
+fn surface_tension_matches_coolprop() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fluids");
+    for (fluid, stem, bound) in [
+        (Fluid::Lh2, "LH2", 0.03),
+        (Fluid::Lox, "LOX", 1e-3),
+        (Fluid::Lch4, "LCH4", 1e-2),
+        (Fluid::Ln2, "LN2", 1e-3),
+    ] {
+        let text = std::fs::read_to_string(dir.join(format!("{stem}_sigma.csv"))).unwrap();
+        let st = fluid.surface_tension();
+        let mut rows = 0;
+        for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+            let (t, sigma) = line.split_once(',').unwrap();
+            let (t, sigma): (f64, f64) = (t.parse().unwrap(), sigma.parse().unwrap());
+            let err = (st.sigma_n_per_m(t) / sigma - 1.0).abs();
+            assert!(err < bound, "{stem} at {t} K: {err:.2e}");
+            rows += 1;
+        }
+        assert_eq!(rows, 41, "{stem}");
+        // The fit's critical temperature is the propellant's.
+        assert_eq!(st.t_crit_k, fluid.props().t_crit_k, "{stem}");
+    }
+}

@@ -76,6 +76,7 @@ fn compare(name: &str, level: &str, cpu: &[InstanceRecord], gpu: &[InstanceRecor
                 q.diverged,
                 q.pressurant_exhausted,
                 q.depleted,
+                q.slosh_out_of_range,
                 q.relief_cycles,
             )
         };

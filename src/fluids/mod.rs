@@ -83,6 +83,7 @@
 //! clamped to `[1, 10 000] K`.
 
 mod inverse;
+pub mod surface_tension;
 pub mod table;
 
 use crate::lanes::{Mask, Real};
@@ -157,6 +158,24 @@ impl Fluid {
             Fluid::Lch4 => &table::LCH4,
             Fluid::Ln2 => &table::LN2,
         }
+    }
+
+    /// Its surface tension fit ([`surface_tension`]).
+    pub fn surface_tension(self) -> surface_tension::SurfaceTension {
+        match self {
+            Fluid::Lh2 => surface_tension::LH2,
+            Fluid::Lox => surface_tension::LOX,
+            Fluid::Lch4 => surface_tension::LCH4,
+            Fluid::Ln2 => surface_tension::LN2,
+        }
+    }
+}
+
+impl surface_tension::SurfaceTension {
+    /// Surface tension of the saturated liquid at `t_k`, N/m (0 at and above T_c). Within 3 %
+    /// of CoolProp 8.0 for LH2, 0.8 % for LCH4, 0.03 % for LOX and LN2 over the fitted range.
+    pub fn sigma_n_per_m(&self, t_k: f64) -> f64 {
+        self.sigma0_n_per_m * (1.0 - t_k / self.t_crit_k).max(0.0).powf(self.exponent)
     }
 }
 

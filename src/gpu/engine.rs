@@ -265,6 +265,12 @@ fn summarize(p: &Params, s0: &State, r: &GpuResult, phase_names: &[String]) -> S
         peak_slosh_force_n: f(r.peak_slosh_force_n),
         peak_slosh_moment_n_m: f(r.peak_slosh_moment_n_m),
         relief_cycles: u64::from(r.relief_cycles),
+        slosh_out_of_range: r.slosh_out != 0,
+        slosh_out_of_range_fraction: if r.final_time_s > 0.0 {
+            f(r.slosh_out_time_s) / f(r.final_time_s)
+        } else {
+            0.0
+        },
         pressurant_exhausted: r.exhausted != 0,
         pressurant_exhausted_time_s: (r.exhausted != 0).then(|| f(r.exhausted_time_s)),
         depleted: r.depleted != 0,

@@ -59,6 +59,10 @@ gpu_struct! {
         pub n_phases: u32,
         pub tank: GpuTank,
         pub heat_leak_w: f32,
+        /// Surface tension fit σ_0 (N/m), exponent and T_c (K) (`fluids::surface_tension`).
+        pub sigma0: f32,
+        pub sigma_exp: f32,
+        pub sigma_tc: f32,
         pub wall_areal_mass: f32,
         pub wall_cp: f32,
         pub evap_coeff: f32,
@@ -152,6 +156,9 @@ gpu_struct! {
         pub m_liquid_kg: f32,
         /// Relief-valve openings; pressurant exhausted and tank dry, with their times.
         pub relief_cycles: u32,
+        /// The slosh analog left its range (flag) and for how long, s.
+        pub slosh_out: u32,
+        pub slosh_out_time_s: f32,
         pub exhausted: u32,
         pub exhausted_time_s: f32,
         pub depleted: u32,
@@ -236,6 +243,9 @@ impl GpuParams {
             n_phases: n_phases as u32,
             tank: GpuTank::new(&p.tank),
             heat_leak_w: f(p.heat_leak_w),
+            sigma0: f(p.fluid.surface_tension().sigma0_n_per_m),
+            sigma_exp: f(p.fluid.surface_tension().exponent),
+            sigma_tc: f(p.fluid.surface_tension().t_crit_k),
             wall_areal_mass: f(p.wall_areal_mass_kg_per_m2),
             wall_cp: f(p.wall_cp_j_per_kg_k),
             evap_coeff,
@@ -449,6 +459,8 @@ pub fn constants_wgsl() -> String {
         ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
         ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),
         ("BULK_MERGE_FRACTION", crate::model::BULK_MERGE_FRACTION),
+        ("SLOSH_BOND_MIN", crate::simulate::SLOSH_BOND_MIN),
+        ("SLOSH_ANGLE_MAX_RAD", crate::simulate::SLOSH_ANGLE_MAX_RAD),
         (
             "DEPLETION_RESIDUAL_FRACTION",
             crate::simulate::DEPLETION_RESIDUAL_FRACTION,

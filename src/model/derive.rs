@@ -278,7 +278,19 @@ pub fn motion<T: Real>(
     out.drag_n = drag;
     out.a_ax = a_ax;
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
-    out.slosh = slosh_params(g, tank, v_l, out.m_liquid_kg, out.level_m, a_ax, nu_liquid);
+    // The analog's frequency and damping follow the acceleration the liquid actually sees, axial
+    // and lateral: in a coast with a lateral push the pendulum swings at √(|a|/L), not at the
+    // axial floor's frequency (issue 11: 0.000216 Hz reported, 0.0216 Hz seen).
+    let a_total = (a_ax * a_ax + d.a_lat * d.a_lat).sqrt();
+    out.slosh = slosh_params(
+        g,
+        tank,
+        v_l,
+        out.m_liquid_kg,
+        out.level_m,
+        a_total,
+        nu_liquid,
+    );
 }
 
 fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {

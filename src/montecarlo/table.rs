@@ -18,7 +18,7 @@ pub type Qoi = (&'static str, fn(&Summary) -> f64);
 
 /// f64 quantities of interest per instance, with how to read them from a [`Summary`]. Missing
 /// values (no engine draw: no cavitation margin) are NaN and skipped by the statistics.
-pub const QOI_F64: [Qoi; 20] = [
+pub const QOI_F64: [Qoi; 21] = [
     ("peak_pressure_pa", |q| q.peak_pressure_pa),
     ("peak_pressure_time_s", |q| q.peak_pressure_time_s),
     ("min_pressure_pa", |q| q.min_pressure_pa),
@@ -47,6 +47,9 @@ pub const QOI_F64: [Qoi; 20] = [
         q.pressurant_exhausted_time_s.unwrap_or(f64::NAN)
     }),
     ("depleted_time_s", |q| q.depleted_time_s.unwrap_or(f64::NAN)),
+    ("slosh_out_of_range_fraction", |q| {
+        q.slosh_out_of_range_fraction
+    }),
 ];
 
 /// A count column: its name and how to read it from a [`Summary`].
@@ -60,11 +63,12 @@ pub const COUNTS: [Count; 2] = [
 
 /// Boolean flags per instance: outcomes (cavitation, overpressure, the pressurant running out,
 /// the tank running dry) and validity (diverged, rejected).
-pub const FLAGS: [&str; 6] = [
+pub const FLAGS: [&str; 7] = [
     "cavitation",
     "overpressure",
     "pressurant_exhausted",
     "depleted",
+    "slosh_out_of_range",
     "diverged",
     "rejected",
 ];
@@ -150,6 +154,7 @@ impl InstanceWriter {
             q.overpressure,
             q.pressurant_exhausted,
             q.depleted,
+            q.slosh_out_of_range,
             q.diverged,
             r.rejected,
         ];

@@ -258,6 +258,7 @@ impl LaneRun<'_> {
             (theta_end, &s_end, &ev_end),
         );
         self.tracker.observe(p, mission, &s_end, &ev_end, &d_end);
+        self.slosh_validity(t_end - t0, &s_end, &ev_end, &d_end);
 
         if let Some(hist) = history {
             let interval = self.campaign.output_interval_s;

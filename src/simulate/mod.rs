@@ -49,6 +49,11 @@ pub struct Summary {
     /// of its initial mass. An outcome, not a divergence: the instance ends there.
     pub depleted: bool,
     pub depleted_time_s: Option<f64>,
+    /// The slosh analog left its range at some step end (Bond number below [`SLOSH_BOND_MIN`]
+    /// or pendulum angle beyond [`SLOSH_ANGLE_MAX_RAD`]), and the share of the mission it spent
+    /// there. Always false at the homogeneous level (no analog).
+    pub slosh_out_of_range: bool,
+    pub slosh_out_of_range_fraction: f64,
     /// What left which range, and when (None unless diverged).
     pub diverged_reason: Option<String>,
     pub final_time_s: f64,
@@ -63,6 +68,14 @@ pub struct Summary {
     /// |Δ energy invariant| / energy scale (see [`energy_scale`]).
     pub energy_error_rel: f64,
 }
+
+/// Bond number ρ_l |a| R² / σ below which surface tension, not the body force, shapes the free
+/// surface and the SP-106 analog no longer holds (low-gravity regime, Abramson NASA SP-106
+/// ch. 11 and Dodge 2000: capillary effects dominate as Bo falls towards 1–10).
+pub const SLOSH_BOND_MIN: f64 = 10.0;
+/// Pendulum angle beyond which the linear SP-106 parameters no longer describe the motion (the
+/// analog's masses and lengths come from linear potential flow), rad.
+pub const SLOSH_ANGLE_MAX_RAD: f64 = 0.5;
 
 /// Relative difference below which two pressure peaks are the same peak (CPU, f64).
 const PEAK_TIE_REL: f64 = 1.0e-9;
@@ -446,6 +459,8 @@ struct LaneRun<'a> {
     /// The last step merged an empty bulk node into the layer: the group's copy of this lane's
     /// state is stale.
     merged: bool,
+    /// Time the slosh analog spent outside its range, s.
+    slosh_out_s: f64,
 }
 
 impl<'a> LaneRun<'a> {
@@ -485,6 +500,7 @@ impl<'a> LaneRun<'a> {
             evaluations: 1,
             m_liquid0: ev0.derived.m_liquid_kg,
             merged: false,
+            slosh_out_s: 0.0,
         }
     }
 
@@ -495,6 +511,25 @@ impl<'a> LaneRun<'a> {
     /// The trajectory of this lane at time `t` of its current phase.
     fn drive(&self, t: f64) -> Drive {
         Drive::of_phase(self.phase(), t, self.valve)
+    }
+
+    /// Whether the slosh analog is inside its range at the end of a step of `dt_s` seconds
+    /// (state `s`, evaluation `ev`, drive `d`); the time outside is accumulated.
+    fn slosh_validity(&mut self, dt_s: f64, s: &State, ev: &Evaluation, d: &Drive) {
+        let p = self.params;
+        if p.fidelity == Fidelity::Homogeneous {
+            return;
+        }
+        let x = &ev.derived;
+        let a = (x.a_ax * x.a_ax + d.a_lat * d.a_lat).sqrt();
+        let sigma = p.fluid.surface_tension().sigma_n_per_m(x.t_layer_k);
+        let r = p.tank.radius_m();
+        let bond = x.rho_bulk * a * r * r / sigma;
+        let angle = slosh_angle(Group::one(p), s, &x.slosh).abs();
+        if bond < SLOSH_BOND_MIN || angle > SLOSH_ANGLE_MAX_RAD {
+            self.tracker.summary.slosh_out_of_range = true;
+            self.slosh_out_s += dt_s;
+        }
     }
 
     /// Outcomes of the step from the last good state (mission time `t0`) to state `s` with
@@ -561,6 +596,7 @@ impl<'a> LaneRun<'a> {
             return false;
         }
         self.tracker.observe(p, t, s, ev, d);
+        self.slosh_validity(self.dt, s, ev, d);
         let before = self.valve;
         self.valve = model::update_valve(Group::one(p), ev.derived.p_ullage_pa, self.valve);
         self.tracker.summary.relief_cycles += u64::from(self.valve && !before);
@@ -595,6 +631,11 @@ impl<'a> LaneRun<'a> {
         let mut q = self.tracker.summary;
         q.rejected_steps = self.rejected;
         q.rhs_evaluations = self.evaluations;
+        q.slosh_out_of_range_fraction = if self.t > 0.0 {
+            self.slosh_out_s / self.t
+        } else {
+            0.0
+        };
         finish_summary(
             q,
             p,
@@ -733,6 +774,12 @@ fn outcomes_text(q: &Summary) -> String {
     let mut o = String::new();
     if q.relief_cycles > 0 {
         o += &format!("\nrelief valve opened {} times", q.relief_cycles);
+    }
+    if q.slosh_out_of_range {
+        o += &format!(
+            "\nslosh analog out of range for {:.1} % of the mission (Bond number below {SLOSH_BOND_MIN} or angle beyond {SLOSH_ANGLE_MAX_RAD} rad)",
+            100.0 * q.slosh_out_of_range_fraction
+        );
     }
     if let Some(t) = q.pressurant_exhausted_time_s {
         o += &format!("\npressurant exhausted at t = {t:.1} s");
