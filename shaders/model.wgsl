@@ -958,8 +958,8 @@ fn crossing(a: f32, b: f32, level: f32) -> f32 {
 }
 
 /// Outcomes of the step from t0 to t1 ending at evaluation ev (LaneRun::outcomes): the bottle
-/// running out (first time), and while burning the tank running dry. True when it ran dry.
-fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval, burning: bool) -> bool {
+/// running out (first time), and the tank running dry. True when it ran dry.
+fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval) -> bool {
     if ((P.flags & FLAG_PRESSURIZATION) != 0u && (*r).exhausted == 0u) {
         let empty = P.press_bottle_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
         if (press1 >= empty) {
@@ -968,7 +968,7 @@ fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: 
         }
     }
     let residual = (*r).m_liquid0_kg * DEPLETION_RESIDUAL_FRACTION;
-    if (!(burning && ev.x.m_l <= residual)) {
+    if (!(ev.x.m_l <= residual)) {
         return false;
     }
     (*r).depleted = 1u;
@@ -1081,7 +1081,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let ev = evaluate(&hi, d, dt);
         let bad = check_state(&hi, ev.x);
         let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
-        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, d.burning)) {
+        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev)) {
             if (bad.x == 0.0) {
                 save_last(&r, ev.x);
             } else {

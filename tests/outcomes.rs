@@ -118,3 +118,32 @@ fn low_fill_coast_merges_the_bulk_and_completes() {
         assert!(q.energy_error_rel < 1e-12, "{what}: {}", q.energy_error_rel);
     }
 }
+
+/// A 2 % fill boiled dry by a warm leak over 30 days ended in NaN ("state slot 0 is not finite",
+/// or a step-size underflow under dopri5): running dry by boil-off is the same outcome as by the
+/// engine's draw.
+#[test]
+fn boiling_dry_in_a_coast_is_depletion() {
+    for integrator in ["rk4", "dopri5"] {
+        let c = load(
+            "lch4_coast",
+            &[
+                "propellant.fill_fraction=0.02",
+                "phases.0.duration_s=2592000",
+                "tank.heat_leak_w=86.2",
+                &format!("campaign.integrator={integrator}"),
+            ],
+        );
+        let q = simulate(&c, &c.params, None);
+        assert!(!q.diverged, "{integrator}: {:?}", q.diverged_reason);
+        assert!(q.depleted, "{integrator}");
+        let t = q.depleted_time_s.unwrap();
+        assert!(t > 1.9e6 && t < 2.0e6, "{integrator}: {t}");
+        assert!(
+            q.mass_error_rel < 1e-12,
+            "{integrator}: {}",
+            q.mass_error_rel
+        );
+        assert!(q.boiloff_kg.is_finite());
+    }
+}

@@ -217,13 +217,7 @@ impl LaneRun<'_> {
         self.steps += 1;
         let mission = self.phase_start_s + t_end;
         self.t = mission;
-        if self.outcomes(
-            self.phase_start_s + t0,
-            mission,
-            &s_end,
-            &ev_end,
-            d_end.burning,
-        ) {
+        if self.outcomes(self.phase_start_s + t0, mission, &s_end, &ev_end) {
             self.t_phase = t_end;
             return true;
         }

@@ -45,8 +45,9 @@ pub struct Summary {
     /// The pressurant bottle reached its last [`PRESSURANT_EMPTY_FRACTION`], and when, s.
     pub pressurant_exhausted: bool,
     pub pressurant_exhausted_time_s: Option<f64>,
-    /// The tank ran dry while the engine drew: the liquid fell to [`DEPLETION_RESIDUAL_FRACTION`]
-    /// of its initial mass. An outcome, not a divergence: the instance ends there.
+    /// The tank ran dry, drawn by the engine or boiled off: the liquid fell to
+    /// [`DEPLETION_RESIDUAL_FRACTION`] of its initial mass. An outcome, not a divergence: the
+    /// instance ends there.
     pub depleted: bool,
     pub depleted_time_s: Option<f64>,
     /// The slosh analog left its range at some step end (Bond number below [`SLOSH_BOND_MIN`]
@@ -533,10 +534,10 @@ impl<'a> LaneRun<'a> {
     }
 
     /// Outcomes of the step from the last good state (mission time `t0`) to state `s` with
-    /// evaluation `ev` at `t1`: the pressurant running out (first time) and, while the engine
-    /// draws, the tank running dry, which ends the instance. Returns true when it ran dry; the
+    /// evaluation `ev` at `t1`: the pressurant running out (first time) and the tank running dry
+    /// (drawn by the engine or boiled off), which ends the instance. Returns true when it ran dry; the
     /// end state is kept if it passes the checks, else the last good one.
-    fn outcomes(&mut self, t0: f64, t1: f64, s: &State, ev: &Evaluation, burning: bool) -> bool {
+    fn outcomes(&mut self, t0: f64, t1: f64, s: &State, ev: &Evaluation) -> bool {
         let p = self.params;
         let q = &mut self.tracker.summary;
         if let Some(pr) = p.pressurization.filter(|_| !q.pressurant_exhausted) {
@@ -549,7 +550,7 @@ impl<'a> LaneRun<'a> {
         }
         let residual = self.m_liquid0 * DEPLETION_RESIDUAL_FRACTION;
         let m_liquid = ev.derived.m_liquid_kg;
-        if !(burning && m_liquid <= residual) {
+        if m_liquid.is_nan() || m_liquid > residual {
             return false;
         }
         let th = crossing(self.last.derived.m_liquid_kg, m_liquid, residual);
@@ -583,7 +584,7 @@ impl<'a> LaneRun<'a> {
         self.steps += 1;
         self.t += self.dt;
         let t = self.t;
-        if self.outcomes(t - self.dt, t, s, ev, d.burning) {
+        if self.outcomes(t - self.dt, t, s, ev) {
             return true;
         }
         if let Some(reason) = check_state(p, s, &ev.derived) {
@@ -785,7 +786,7 @@ fn outcomes_text(q: &Summary) -> String {
         o += &format!("\npressurant exhausted at t = {t:.1} s");
     }
     if let Some(t) = q.depleted_time_s {
-        o += &format!("\nDEPLETED: the tank ran dry at t = {t:.3} s (the engine stopped drawing)");
+        o += &format!("\nDEPLETED: the tank ran dry at t = {t:.3} s (the instance ends there)");
     }
     o
 }
