@@ -413,9 +413,9 @@ fn h_unstable_interface(p: Conv, accel: f32, dt_unstable_k: f32, length_m: f32) 
     return 0.15 * pow(rp.x, 1.0 / 3.0) * p.k / length;
 }
 
-/// Wall-to-fluid heat over a step, implicit in ΔT with the wall's own warming (thermal::wall_exchange).
-fn wall_exchange(ua: f32, dt: f32, c_wall: f32, c_fluid: f32, dtemp: f32) -> f32 {
-    let warming = P.heat_leak_w / (P.wall_areal_mass * tank_wall_area() * P.wall_cp);
+/// Wall-to-fluid heat over a step, implicit in ΔT with the wall's own warming rate `warming`
+/// (heat leak / wall heat capacity, K/s; thermal::wall_exchange).
+fn wall_exchange(ua: f32, dt: f32, c_wall: f32, c_fluid: f32, dtemp: f32, warming: f32) -> f32 {
     return limited_conductance(ua, dt, c_wall, c_fluid) * (dtemp + dt * warming);
 }
 
@@ -618,6 +618,9 @@ struct EvapTail {
     dv_slosh: f32,
     t_s: f32,
     rho_s: f32,
+    /// c_p,l and dP_sat/dT at T_s, evaluated once per right-hand side.
+    cp_s: f32,
+    dpsat_dt: f32,
 }
 
 /// [dm_v, dm_s, dH_s, dU_u, dV_s] at evaporation rate m.
@@ -635,11 +638,11 @@ fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
 /// d(P_sat(T_s) − P_v)/dt along the rates r of evap_tail (chain rule through derive_nodes).
 fn evap_dp_rate(s: ptr<function, St>, x: Derived, c: EvapTail, r: array<f32, 5>, dm_g: f32) -> f32 {
     let heat_cap = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
-    let dt_s = (r[2] - c.h_ls * r[1]) / (max((*s)[M_S], 1.0e-9) * fl_cp_l(c.t_s));
+    let dt_s = (r[2] - c.h_ls * r[1]) / (max((*s)[M_S], 1.0e-9) * c.cp_s);
     let dt_u = (r[3] - r[0] * FL.vapor_offset - x.t_u * (r[0] * FL.cv_vapor + dm_g * HE.cv)) / heat_cap;
     let dv_u = c.dv_slosh - r[4] - c.dv_b;
     let dp_v = ((r[0] * x.t_u + (*s)[M_V] * dt_u) * fl_r_specific() - x.p_v * dv_u) / x.v_u;
-    return fl_dpsat_dt(c.t_s) * dt_s - dp_v;
+    return c.dpsat_dt * dt_s - dp_v;
 }
 
 /// The linearly implicit evaporation rate with its forcing (nodes::implicit_evaporation).
@@ -672,14 +675,15 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let bulk_gone = (*s)[M_B] <= 0.0;
     let c_bulk = max(select((*s)[M_B], (*s)[M_S], bulk_gone), 1.0e-9) * liq.cp;
     let c_gas = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
-    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b);
+    let warming = P.heat_leak_w / c_wall;
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b, warming);
     let depth = x.v_s / a_i;
     let a_ws = clamp(a_wet - tank_wetted_area(x.level - depth), 0.0, a_wet);
     let contact = a_ws / max(a_wet, 1.0e-12);
     let to_layer = select(contact + P.wall_heat_to_layer * (1.0 - contact), 1.0, bulk_gone);
     let q_ws = to_layer * q_wl;
     let q_wb = (1.0 - to_layer) * q_wl;
-    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas, x.t_wd - t_u);
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas, x.t_wd - t_u, warming);
 
     var h_us = P.h_us;
     if ((P.flags & FLAG_H_US) == 0u) {
@@ -696,7 +700,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     let alpha = P.diffusivity_factor * fl_k_l(t_s) / (x.rho_s * fl_cp_l(t_s));
     let delta = max((*s)[M_S] / (x.rho_s * a_i), 1.0e-6);
-    let bulk_left = clamp((*s)[M_B] / (1.0e-4 * ((*s)[M_B] + (*s)[M_S]) + 1.0e-9), 0.0, 1.0);
+    let bulk_left = clamp((*s)[M_B] / (BULK_MERGE_FRACTION * ((*s)[M_B] + (*s)[M_S]) + 1.0e-9), 0.0, 1.0);
     let m_strat = x.rho_s * a_i * PI * alpha / (8.0 * delta) * bulk_left;
     let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left;
 
@@ -746,6 +750,8 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.dv_slosh = dv_slosh;
     c.t_s = t_s;
     c.rho_s = x.rho_s;
+    c.cp_s = fl_cp_l(t_s);
+    c.dpsat_dt = fl_dpsat_dt(t_s);
     let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
     let r = evap_tail(c, m_evap);
     (*ds)[M_V] = r[0];
@@ -775,8 +781,9 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let c_fluid = x.m_l * liq.cp + m_u * FL.cv_vapor;
-    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_fluid, x.t_ww - t);
-    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid, x.t_wd - t);
+    let warming = P.heat_leak_w / c_wall;
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_fluid, x.t_ww - t, warming);
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid, x.t_wd - t, warming);
 
     var sv = *s;
     sv[M_V] = x.m_v;
@@ -863,7 +870,7 @@ fn check_state(s: ptr<function, St>, x: Derived) -> vec2<f32> {
 }
 
 fn cavitation_margin(s: ptr<function, St>, x: Derived) -> vec2<f32> {
-    let bulk_gone = (*s)[M_B] <= 1.0e-4 * ((*s)[M_B] + (*s)[M_S]);
+    let bulk_gone = (*s)[M_B] <= BULK_MERGE_FRACTION * ((*s)[M_B] + (*s)[M_S]);
     let rho = select(x.rho_b, x.rho_s, bulk_gone);
     let t_out = select(x.t_b, x.t_s, bulk_gone);
     let head = x.p_u + rho * x.a_ax * (x.level + P.line_height_m) - P.line_loss_pa

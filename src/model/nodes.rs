@@ -254,7 +254,10 @@ pub fn rhs<T: Real>(
     let factor: T = g.get(|p| p.stratification.diffusivity_factor);
     let alpha = factor * f.k_l_w_per_m_k(t_s) / (x.rho_layer * layer.cp);
     let delta = (s[M_S] / (x.rho_layer * a_i)).max_c(1.0e-6);
-    let bulk_left = (s[M_B] / ((s[M_B] + s[M_S]) * 1.0e-4 + 1.0e-9)).clamp_c(0.0, 1.0);
+    // The bulk fades out of strat, mixing and the draw over its last share of the liquid, the
+    // share below which it merges into the layer.
+    let bulk_left =
+        (s[M_B] / ((s[M_B] + s[M_S]) * super::BULK_MERGE_FRACTION + 1.0e-9)).clamp_c(0.0, 1.0);
     let m_strat = x.rho_layer * a_i * PI * alpha / (delta * 8.0) * bulk_left;
     let mixing: T = g.get(|p| p.coupling.mixing);
     let m_mix = mixing * s[M_S] * speed * bulk_left;

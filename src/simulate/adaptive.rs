@@ -123,14 +123,8 @@ impl LaneRun<'_> {
         self.h = h * dopri::step_factor(error, true);
         let floor = MIN_STEP_FRACTION * self.t_phase.max(1.0);
         if self.h.is_nan() || self.h <= floor {
-            let name = &self.phase().name;
-            let t = self.phase_start_s + self.t_phase;
-            let q = &mut self.tracker.summary;
-            q.diverged = true;
-            q.diverged_reason = Some(format!(
-                "step size fell below {floor:.3e} s (error norm {error:.3e}) at t = {t:.3} s in phase {name}"
-            ));
-            self.done = true;
+            let reason = format!("step size fell below {floor:.3e} s (error norm {error:.3e})");
+            self.diverge(&reason, self.phase_start_s + self.t_phase, None);
         }
     }
 
@@ -143,8 +137,8 @@ impl LaneRun<'_> {
 
     /// An accepted step of length `h` from `y0` to `y1` with stages `k`, its end evaluation
     /// `ev1` and mid-step evaluation `mid`. Locates a valve switch inside the step and cuts
-    /// the step there, observes extremes, records history, moves to the next phase. Returns
-    /// false when the instance diverged.
+    /// the step there, checks outcomes and divergence, observes extremes, records history,
+    /// moves to the next phase.
     #[expect(clippy::too_many_arguments, reason = "the step's facts, each named")]
     fn accept(
         &mut self,
@@ -156,7 +150,7 @@ impl LaneRun<'_> {
         error: f64,
         mid: &Evaluation,
         history: Option<&mut History>,
-    ) -> bool {
+    ) {
         let p = self.params;
         let dense = Dense::new(y0, y1, k, h);
         let t0 = self.t_phase;
@@ -201,10 +195,7 @@ impl LaneRun<'_> {
             }
             None => (1.0, *y1, *ev1, self.drive(t0 + h)),
         };
-        if model::merge_empty_bulk(p, &mut s_end) {
-            self.evaluations += 1;
-            ev_end = model::evaluate(Group::one(p), &s_end, &d_end, h);
-        }
+        self.merge_bulk(&mut s_end, &mut ev_end, &d_end, h);
         let t_end = if cut.is_none() {
             match self.landing {
                 Landing::PhaseEnd => self.phase().duration_s,
@@ -219,20 +210,15 @@ impl LaneRun<'_> {
         self.t = mission;
         if self.outcomes(self.phase_start_s + t0, mission, &s_end, &ev_end) {
             self.t_phase = t_end;
-            return true;
+            return;
         }
         if cut.is_some() && !open {
             self.tracker.summary.relief_cycles += 1;
         }
         if let Some(reason) = super::check_state(p, &s_end, &ev_end.derived) {
-            let name = &self.phase().name;
-            let q = &mut self.tracker.summary;
-            q.diverged = true;
-            q.diverged_reason = Some(format!("{reason} at t = {mission:.3} s in phase {name}"));
-            self.diverged_state = Some(s_end);
+            self.diverge(&reason, mission, Some(s_end));
             self.t_phase = t_end;
-            self.done = true;
-            return false;
+            return;
         }
         // Extremes between the step ends: a probe inside [0, theta_end], then a parabola.
         let probe = if theta_end > 0.5 {
@@ -308,7 +294,6 @@ impl LaneRun<'_> {
                 self.need_k1 = true;
             }
         }
-        true
     }
 
     /// Observe the extremes between the step start (`ev0` at θ = 0), a probe and the end:

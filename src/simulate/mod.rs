@@ -179,7 +179,7 @@ impl History {
 /// Net positive suction head margin NPSH_a − NPSH_r, m, and the same in Pa (MODEL.md §9).
 pub fn cavitation_margin(p: &Params, s: &State, x: &Derived) -> (f64, f64) {
     let f = p.fluid.props();
-    let bulk_gone = s[M_B] <= 1.0e-4 * (s[M_B] + s[M_S]);
+    let bulk_gone = s[M_B] <= model::BULK_MERGE_FRACTION * (s[M_B] + s[M_S]);
     let (rho, t_out) = if bulk_gone {
         (x.rho_layer, x.t_layer_k)
     } else {
@@ -514,6 +514,29 @@ impl<'a> LaneRun<'a> {
         Drive::of_phase(self.phase(), t, self.valve)
     }
 
+    /// The instance diverged at mission time `t` for `reason`; `state` is the one that failed the
+    /// checks (None: the step could not be taken at all).
+    fn diverge(&mut self, reason: &str, t: f64, state: Option<State>) {
+        let name = &self.phase().name;
+        let q = &mut self.tracker.summary;
+        q.diverged = true;
+        q.diverged_reason = Some(format!("{reason} at t = {t:.3} s in phase {name}"));
+        self.diverged_state = state;
+        self.done = true;
+    }
+
+    /// Merge an empty bulk node of the step's end state `s` into the layer
+    /// ([`model::merge_empty_bulk`]) and evaluate the merged state again under drive `d` with
+    /// step `h`. Returns whether it merged.
+    fn merge_bulk(&mut self, s: &mut State, ev: &mut Evaluation, d: &Drive, h: f64) -> bool {
+        let merged = model::merge_empty_bulk(self.params, s);
+        if merged {
+            self.evaluations += 1;
+            *ev = model::evaluate(Group::one(self.params), s, d, h);
+        }
+        merged
+    }
+
     /// Whether the slosh analog is inside its range at the end of a step of `dt_s` seconds
     /// (state `s`, evaluation `ev`, drive `d`); the time outside is accumulated.
     fn slosh_validity(&mut self, dt_s: f64, s: &State, ev: &Evaluation, d: &Drive) {
@@ -575,11 +598,7 @@ impl<'a> LaneRun<'a> {
     ) -> bool {
         let p = self.params;
         let (mut merged_state, mut merged_ev) = (*s, *ev);
-        self.merged = model::merge_empty_bulk(p, &mut merged_state);
-        if self.merged {
-            self.evaluations += 1;
-            merged_ev = model::evaluate(Group::one(p), &merged_state, d, self.dt);
-        }
+        self.merged = self.merge_bulk(&mut merged_state, &mut merged_ev, d, self.dt);
         let (s, ev) = (&merged_state, &merged_ev);
         self.steps += 1;
         self.t += self.dt;
@@ -588,12 +607,7 @@ impl<'a> LaneRun<'a> {
             return true;
         }
         if let Some(reason) = check_state(p, s, &ev.derived) {
-            let name = &self.phase().name;
-            let q = &mut self.tracker.summary;
-            q.diverged = true;
-            q.diverged_reason = Some(format!("{reason} at t = {t:.3} s in phase {name}"));
-            self.diverged_state = Some(*s);
-            self.done = true;
+            self.diverge(&reason, t, Some(*s));
             return false;
         }
         self.tracker.observe(p, t, s, ev, d);
