@@ -6,7 +6,7 @@ use std::process::Command;
 
 use arrow_array::cast::AsArray;
 use arrow_array::types::{Float64Type, Int32Type, UInt64Type};
-use arrow_array::RecordBatch;
+use arrow_array::{Array, RecordBatch};
 use cryoslosh::output::atomic::{temp_path, write_atomic};
 use cryoslosh::output::*;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
@@ -132,10 +132,13 @@ fn round_trip_three_chunks() {
     for (i, spec) in specs().iter().enumerate() {
         let column = schema.column(i);
         assert_eq!(column.name(), spec.name);
-        assert_eq!(
-            column.self_type().get_basic_info().repetition(),
+        // F64 columns hold nulls (NaN is written as null); the others are required.
+        let expected = if spec.nullable {
+            Repetition::OPTIONAL
+        } else {
             Repetition::REQUIRED
-        );
+        };
+        assert_eq!(column.self_type().get_basic_info().repetition(), expected);
     }
     assert_eq!(
         kv(&meta, "cryoslosh.campaign").as_deref(),
@@ -150,7 +153,8 @@ fn round_trip_three_chunks() {
     let mut label: Vec<String> = Vec::new();
     for batch in &batches {
         assert_eq!(batch.schema().field(0).name(), "time_s");
-        assert!(!batch.schema().field(0).is_nullable());
+        assert!(batch.schema().field(0).is_nullable());
+        assert_eq!(batch.column(0).null_count(), 0);
         time.extend(batch.column(0).as_primitive::<Float64Type>().values());
         id.extend(batch.column(1).as_primitive::<UInt64Type>().values());
         code.extend(batch.column(2).as_primitive::<Int32Type>().values());
@@ -379,7 +383,8 @@ assert kv[b"cryoslosh.seed"] == b"12345", kv
 assert meta.num_row_groups == 2, meta.num_row_groups
 table = pq.read_table(path)
 assert table.schema.field("instance_id").type == "uint64"
-assert not table.schema.field("time_s").nullable
+assert table.schema.field("time_s").nullable and table.column("time_s").null_count == 0
+assert not table.schema.field("instance_id").nullable
 print(repr(sum(table.column("time_s").to_pylist())), sum(table.column("regime_code").to_pylist()), table.num_rows)
 "#;
     let out = Command::new("python3")
@@ -441,5 +446,39 @@ fn large_chunk_is_one_row_group() {
         .sum();
     let expected: f64 = values.iter().sum::<f64>() + values[..10].iter().sum::<f64>();
     assert_eq!(sum, expected);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// NaN in an F64 column and "" in an optional UTF-8 column are written as Arrow nulls (a NaN made
+/// DuckDB's avg and max NaN and shifted its quantiles), so every reader skips them alike.
+#[test]
+fn missing_values_are_arrow_nulls() {
+    let dir = scratch_dir("nulls");
+    let path = dir.join("t.parquet");
+    let specs = vec![
+        ColumnSpec::new("x", ColumnKind::F64),
+        ColumnSpec::optional("input", ColumnKind::Utf8),
+        ColumnSpec::new("quantity", ColumnKind::Utf8),
+    ];
+    let mut w = TableWriter::create(&path, specs, vec![]).unwrap();
+    let x = [1.0, f64::NAN, 3.0, f64::INFINITY];
+    let input: Vec<String> = ["a", "", "b", ""].iter().map(|s| s.to_string()).collect();
+    let quantity: Vec<String> = ["", "q", "q", "q"].iter().map(|s| s.to_string()).collect();
+    w.write_chunk(&[
+        ColumnData::F64(&x),
+        ColumnData::Utf8(&input),
+        ColumnData::Utf8(&quantity),
+    ])
+    .unwrap();
+    w.finish().unwrap();
+    let (_, batches) = read_back(&path);
+    let b = &batches[0];
+    let xs = b.column(0).as_primitive::<Float64Type>();
+    assert_eq!(xs.null_count(), 1);
+    assert!(xs.is_null(1));
+    assert_eq!(xs.value(3), f64::INFINITY, "only NaN is a missing value");
+    assert_eq!(b.column(1).null_count(), 2);
+    assert!(b.column(1).is_null(1) && b.column(1).is_null(3));
+    assert_eq!(b.column(2).null_count(), 0, "a required string column keeps \"\"");
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -226,7 +226,7 @@ pub fn write(
     let specs = vec![
         ColumnSpec::new("quantity", ColumnKind::Utf8),
         ColumnSpec::new("statistic", ColumnKind::Utf8),
-        ColumnSpec::new("input", ColumnKind::Utf8),
+        ColumnSpec::optional("input", ColumnKind::Utf8),
         ColumnSpec::new("threshold", ColumnKind::F64),
         ColumnSpec::new("value", ColumnKind::F64),
         ColumnSpec::new("ci_low", ColumnKind::F64),

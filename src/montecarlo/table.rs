@@ -17,7 +17,8 @@ pub const ROW_GROUP_ROWS: usize = 65_536;
 pub type Qoi = (&'static str, fn(&Summary) -> f64);
 
 /// f64 quantities of interest per instance, with how to read them from a [`Summary`]. Missing
-/// values (no engine draw: no cavitation margin) are NaN and skipped by the statistics.
+/// values (no engine draw: no cavitation margin; every QoI of a rejected or diverged instance but
+/// `final_time_s`) are NaN here and Arrow nulls in the file.
 pub const QOI_F64: [Qoi; 21] = [
     ("peak_pressure_pa", |q| q.peak_pressure_pa),
     ("peak_pressure_time_s", |q| q.peak_pressure_time_s),
@@ -143,12 +144,20 @@ impl InstanceWriter {
     /// Append one instance.
     pub fn push(&mut self, r: &InstanceRecord) -> Result<(), OutputError> {
         let q = &r.summary;
-        let nan_if_rejected = |v: f64| if r.rejected { f64::NAN } else { v };
+        // A rejected or diverged instance has no QoIs (nulls), except the time it reached.
+        let invalid = r.rejected || q.diverged;
+        let value = |name: &str, get: fn(&Summary) -> f64| {
+            if invalid && name != "final_time_s" {
+                f64::NAN
+            } else {
+                get(q)
+            }
+        };
         let mut f64s = r
             .inputs
             .iter()
             .copied()
-            .chain(QOI_F64.iter().map(|(_, get)| nan_if_rejected(get(q))));
+            .chain(QOI_F64.iter().map(|&(name, get)| value(name, get)));
         let flags = [
             q.cavitation,
             q.overpressure,
@@ -267,7 +276,8 @@ fn append_array(out: &mut Option<Buf>, col: &dyn Array) {
     let any = col.as_any();
     if let Some(a) = any.downcast_ref::<Float64Array>() {
         if let Buf::F64(v) = out.get_or_insert(Buf::F64(Vec::new())) {
-            v.extend_from_slice(a.values());
+            // A null (no value) reads back as NaN, which every statistic skips.
+            v.extend(a.iter().map(|x| x.unwrap_or(f64::NAN)));
         }
     } else if let Some(a) = any.downcast_ref::<UInt64Array>() {
         if let Buf::U64(v) = out.get_or_insert(Buf::U64(Vec::new())) {

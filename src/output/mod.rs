@@ -4,7 +4,7 @@
 //! (`<path>.tmp-<pid>`), fsynced and then renamed over the final path, so a
 //! reader never sees a half-written file and an interrupted run never replaces
 //! a previous good result. [`TableWriter`] streams a flat table of
-//! non-nullable numeric (and string) columns into a Snappy-compressed Parquet
+//! numeric (and string) columns, missing values as Arrow nulls, into a Snappy-compressed Parquet
 //! file, one row group per chunk, with caller-supplied provenance stored as
 //! Parquet file-level key-value metadata. [`atomic::write_atomic`] does the
 //! same for small whole-file payloads such as `run.json`.

@@ -1,4 +1,5 @@
-//! Streaming, atomic Parquet writer for flat tables of non-nullable columns.
+//! Streaming, atomic Parquet writer for flat tables. A missing value is an Arrow null: NaN in an
+//! f64 column, an empty string in a column declared [`ColumnSpec::optional`].
 
 use std::collections::HashSet;
 use std::fmt;
@@ -65,14 +66,27 @@ pub struct ColumnSpec {
     pub name: String,
     /// Physical type of the column.
     pub kind: ColumnKind,
+    /// Whether the column holds nulls. F64 columns always do (NaN is written as null, so
+    /// DuckDB, polars and pandas skip it alike); a UTF-8 column does when declared
+    /// [`ColumnSpec::optional`] (an empty string is written as null).
+    pub nullable: bool,
 }
 
 impl ColumnSpec {
-    /// Creates a column spec.
+    /// Creates a column spec; an F64 column is nullable (NaN → null), others are not.
     pub fn new(name: impl Into<String>, kind: ColumnKind) -> Self {
         ColumnSpec {
             name: name.into(),
             kind,
+            nullable: kind == ColumnKind::F64,
+        }
+    }
+
+    /// A nullable column: NaN (F64) or an empty string (UTF-8) is written as null.
+    pub fn optional(name: impl Into<String>, kind: ColumnKind) -> Self {
+        ColumnSpec {
+            nullable: true,
+            ..ColumnSpec::new(name, kind)
         }
     }
 }
@@ -120,9 +134,19 @@ impl ColumnData<'_> {
         self.len() == 0
     }
 
-    /// Copies the values into an Arrow array.
-    fn to_array(self) -> ArrayRef {
+    /// Copies the values into an Arrow array; in a `nullable` column NaN and "" become null.
+    fn to_array(self, nullable: bool) -> ArrayRef {
         match self {
+            ColumnData::F64(v) if nullable => Arc::new(
+                v.iter()
+                    .map(|&x| (!x.is_nan()).then_some(x))
+                    .collect::<Float64Array>(),
+            ),
+            ColumnData::Utf8(v) if nullable => Arc::new(
+                v.iter()
+                    .map(|x| (!x.is_empty()).then_some(x.as_str()))
+                    .collect::<StringArray>(),
+            ),
             ColumnData::F64(v) => Arc::new(Float64Array::from(v.to_vec())),
             ColumnData::U64(v) => Arc::new(UInt64Array::from(v.to_vec())),
             ColumnData::I32(v) => Arc::new(Int32Array::from(v.to_vec())),
@@ -168,8 +192,8 @@ impl TableWriter {
     ///
     /// `metadata` becomes Parquet file-level key-value metadata (readable by
     /// pyarrow, polars and DuckDB), next to the `ARROW:schema` entry the
-    /// Arrow writer adds itself. Columns are non-nullable and Snappy
-    /// compressed. Fails if `columns` is empty or has duplicate names, or if
+    /// Arrow writer adds itself. Columns are Snappy compressed; nullable as
+    /// their [`ColumnSpec::nullable`] says. Fails if `columns` is empty or has duplicate names, or if
     /// the temporary file cannot be created (e.g. missing directory).
     pub fn create(
         path: &Path,
@@ -193,7 +217,7 @@ impl TableWriter {
         let schema: SchemaRef = Arc::new(Schema::new(
             columns
                 .iter()
-                .map(|spec| Field::new(spec.name.as_str(), spec.kind.data_type(), false))
+                .map(|spec| Field::new(spec.name.as_str(), spec.kind.data_type(), spec.nullable))
                 .collect::<Vec<_>>(),
         ));
         let key_values = metadata
@@ -289,7 +313,11 @@ impl TableWriter {
             return Ok(());
         }
 
-        let arrays = columns.iter().map(|data| data.to_array()).collect();
+        let arrays = columns
+            .iter()
+            .zip(&self.columns)
+            .map(|(data, spec)| data.to_array(spec.nullable))
+            .collect();
         let batch = RecordBatch::try_new(Arc::clone(&self.schema), arrays).map_err(|source| {
             OutputError::Arrow {
                 path: self.path.clone(),
