@@ -479,6 +479,10 @@ fn missing_values_are_arrow_nulls() {
     assert_eq!(xs.value(3), f64::INFINITY, "only NaN is a missing value");
     assert_eq!(b.column(1).null_count(), 2);
     assert!(b.column(1).is_null(1) && b.column(1).is_null(3));
-    assert_eq!(b.column(2).null_count(), 0, "a required string column keeps \"\"");
+    assert_eq!(
+        b.column(2).null_count(),
+        0,
+        "a required string column keeps \"\""
+    );
     fs::remove_dir_all(&dir).unwrap();
 }
