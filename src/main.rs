@@ -36,14 +36,19 @@ enum Command {
     },
     /// Simulate one instance (the nominal) and write its full time history to Parquet.
     Simulate {
-        /// Campaign TOML file.
-        campaign: PathBuf,
+        /// Campaign TOML file (not with --run).
+        #[arg(required_unless_present = "run")]
+        campaign: Option<PathBuf>,
         /// Output Parquet file.
         #[arg(long)]
         out: PathBuf,
         /// Simulate instance I of the dispersion campaign (its sampled inputs) instead of the nominal.
-        #[arg(long)]
+        #[arg(long, required_if_eq_any = [("run", "*")])]
         instance: Option<u64>,
+        /// Replay instance I of the finished run in DIR (campaign text, seed, instance count and
+        /// design from its metadata) and compare it with its row of DIR/instances.parquet.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["campaign", "set"], requires = "instance")]
+        run: Option<PathBuf>,
         /// Override a scalar by its dotted key path (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
@@ -156,11 +161,21 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
         }
         Command::Simulate {
+            run: Some(dir),
+            out,
+            instance,
+            ..
+        } => replay(&dir, instance.unwrap_or(0), &out),
+        Command::Simulate {
             campaign,
             out,
             instance,
             set,
+            run: None,
         } => {
+            let Some(campaign) = campaign else {
+                return Err(BadInput("simulate needs a campaign file or --run DIR".into()).into());
+            };
             let nominal = Campaign::load(&campaign, &set)?;
             let (c, label) = match instance {
                 None => (nominal, "nominal".to_string()),
@@ -176,6 +191,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     let d = &nominal.dispersions;
                     let values =
                         montecarlo::plan::sample_inputs(d, nominal.seed, nominal.instances, i);
+                    println!(
+                        "instance {i} of campaign.instances = {}, seed {} (to replay a run made \
+                         with other --instances or --seed: simulate --run DIR --instance {i})",
+                        nominal.instances, nominal.seed
+                    );
                     for (input, v) in d.inputs.iter().zip(&values) {
                         println!("{} = {v}", input.key);
                     }
@@ -259,6 +279,47 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             check_trust(&report)
         }
     }
+}
+
+/// `simulate --run DIR --instance I`: replay the instance, write its history, compare its row.
+fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Result<()> {
+    let mut h = History::default();
+    let (run, record) = montecarlo::replay::replay(dir, i, Some(&mut h))?;
+    let c = &run.campaign;
+    for (input, v) in c.dispersions.inputs.iter().zip(&record.inputs) {
+        println!("{} = {v}", input.key);
+    }
+    if record.rejected {
+        println!(
+            "instance {i} is rejected: {}",
+            record.summary.diverged_reason.as_deref().unwrap_or("")
+        );
+    } else {
+        let q = &record.summary;
+        let rows = cryoslosh::history::write_history(out, c, &h, &i.to_string())
+            .with_context(|| format!("writing {}", out.display()))?;
+        println!("{}", simulate::describe_summary(q));
+        println!("{} steps; {rows} rows → {}", q.steps, out.display());
+    }
+    let diffs = montecarlo::replay::compare_row(dir, &c.dispersions, &record)?;
+    let row = format!("row {i} of {}", dir.join("instances.parquet").display());
+    if diffs.is_empty() {
+        println!("replay equals {row} bit for bit");
+        return Ok(());
+    }
+    let list: Vec<String> = diffs
+        .iter()
+        .map(|(n, file, got)| format!("{n}: file {file}, replay {got}"))
+        .collect();
+    if run.backend == "cpu" {
+        anyhow::bail!("replay differs from {row}: {}", list.join("; "));
+    }
+    println!(
+        "the run integrated on {} (f32); the CPU replay differs from {row} in: {}",
+        run.backend,
+        list.join("; ")
+    );
+    Ok(())
 }
 
 /// The engine for `--backend`: `gpu` opens any adapter (software included) or fails with exit

@@ -3,6 +3,7 @@
 //! exactly what the unsharded run writes.
 
 pub mod plan;
+pub mod replay;
 pub mod screen;
 pub mod statistics;
 pub mod table;

@@ -74,6 +74,35 @@ pub const FLAGS: [&str; 7] = [
     "rejected",
 ];
 
+/// What a row of instances.parquet holds for `r` after its inputs: the [`QOI_F64`] values (NaN
+/// = null), the [`COUNTS`] and the [`FLAGS`]. A rejected or diverged instance has no QoIs, except
+/// the time it reached.
+pub fn row_values(r: &InstanceRecord) -> (Vec<f64>, [u64; 2], [bool; 7]) {
+    let q = &r.summary;
+    let invalid = r.rejected || q.diverged;
+    let qois = QOI_F64
+        .iter()
+        .map(|&(name, get)| {
+            if invalid && name != "final_time_s" {
+                f64::NAN
+            } else {
+                get(q)
+            }
+        })
+        .collect();
+    let counts = [COUNTS[0].1(q), COUNTS[1].1(q)];
+    let flags = [
+        q.cavitation,
+        q.overpressure,
+        q.pressurant_exhausted,
+        q.depleted,
+        q.slosh_out_of_range,
+        q.diverged,
+        r.rejected,
+    ];
+    (qois, counts, flags)
+}
+
 /// Column buffer of one kind.
 #[derive(Clone, Debug)]
 enum Buf {
@@ -143,32 +172,10 @@ impl InstanceWriter {
 
     /// Append one instance.
     pub fn push(&mut self, r: &InstanceRecord) -> Result<(), OutputError> {
-        let q = &r.summary;
-        // A rejected or diverged instance has no QoIs (nulls), except the time it reached.
-        let invalid = r.rejected || q.diverged;
-        let value = |name: &str, get: fn(&Summary) -> f64| {
-            if invalid && name != "final_time_s" {
-                f64::NAN
-            } else {
-                get(q)
-            }
-        };
-        let mut f64s = r
-            .inputs
-            .iter()
-            .copied()
-            .chain(QOI_F64.iter().map(|&(name, get)| value(name, get)));
-        let flags = [
-            q.cavitation,
-            q.overpressure,
-            q.pressurant_exhausted,
-            q.depleted,
-            q.slosh_out_of_range,
-            q.diverged,
-            r.rejected,
-        ];
+        let (qois, counts, flags) = row_values(r);
+        let mut f64s = r.inputs.iter().copied().chain(qois);
         let mut flag = flags.iter();
-        let mut u64s = std::iter::once(r.instance).chain(COUNTS.iter().map(|(_, get)| get(q)));
+        let mut u64s = std::iter::once(r.instance).chain(counts);
         for b in &mut self.bufs {
             match b {
                 Buf::U64(v) => v.push(u64s.next().unwrap_or(0)),
