@@ -83,6 +83,9 @@ enum Command {
         /// Override a scalar by its dotted key path (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// Write into a non-empty --out directory (its result files are replaced).
+        #[arg(long)]
+        force: bool,
     },
     /// List the GPU adapters the WGSL backend can use (name, backend, type, limits).
     Devices,
@@ -94,10 +97,14 @@ enum Command {
         /// Output directory.
         #[arg(long)]
         out: PathBuf,
+        /// Write into a non-empty --out directory (its result files are replaced).
+        #[arg(long)]
+        force: bool,
     },
 }
 
 fn main() -> ExitCode {
+    quiet_process_defaults();
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
@@ -117,6 +124,25 @@ fn main() -> ExitCode {
                 ExitCode::from(1)
             }
         }
+    }
+}
+
+/// Process-wide settings made before any thread starts: the default SIGPIPE (Rust ignores it,
+/// so `cryoslosh check … | head` panicked on the closed pipe; now the process ends quietly as
+/// `cat` does), and a runtime directory for Mesa, whose window-system code prints "XDG_RUNTIME_DIR
+/// is invalid" when probing adapters on a machine without one (compute needs none).
+fn quiet_process_defaults() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in main, before any other thread exists; SIG_DFL is a valid
+    // disposition for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    let valid =
+        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if !valid {
+        // Single-threaded here, so setting the environment is sound.
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
     }
 }
 
@@ -237,8 +263,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             shard,
             chunk_size,
             set,
+            force,
         } => {
             let c = Campaign::load(&campaign, &set)?;
+            refuse_non_empty(&out, force)?;
             c.check_overrides_not_dispersed(&set)?;
             let shard = match shard {
                 None => Shard::ALL,
@@ -272,13 +300,41 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             print!("{}", context::describe_adapters(&context::adapters()));
             Ok(())
         }
-        Command::Merge { dirs, out } => {
+        Command::Merge { dirs, out, force } => {
+            refuse_non_empty(&out, force)?;
             let report = montecarlo::merge(&dirs, &out)?;
             print!("{}", montecarlo::summary_text(&report));
             println!("merged {} shards into {}", dirs.len(), out.display());
             check_trust(&report)
         }
     }
+}
+
+/// Refuse to write results into a directory that already holds something (a previous run's
+/// results, or anything else) unless `--force`.
+fn refuse_non_empty(dir: &std::path::Path, force: bool) -> anyhow::Result<()> {
+    if force {
+        return Ok(());
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(()); // missing (created later) or unreadable (the write reports it)
+    };
+    let mut names: Vec<String> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    if names.is_empty() {
+        return Ok(());
+    }
+    names.sort();
+    let shown = names.iter().take(4).cloned().collect::<Vec<_>>().join(", ");
+    let more = if names.len() > 4 { ", …" } else { "" };
+    Err(BadInput(format!(
+        "--out {}: the directory is not empty ({shown}{more}); choose another directory or pass \
+         --force to replace the results in it",
+        dir.display()
+    ))
+    .into())
 }
 
 /// `simulate --run DIR --instance I`: replay the instance, write its history, compare its row.

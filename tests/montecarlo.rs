@@ -86,7 +86,14 @@ fn three_shards_merged_equal_the_full_run() {
     }
     // Shards that do not cover the campaign are refused.
     let err = montecarlo::merge(&shards[..2], &scratch("partial")).unwrap_err();
-    assert!(err.to_string().contains("exactly once"), "{err}");
+    assert!(err.to_string().contains("shard 2/3 is missing"), "{err}");
+    let twice = [shards[0].clone(), shards[1].clone(), shards[1].clone()];
+    let err = montecarlo::merge(&twice, &scratch("twice")).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("shard 1/3 is given twice") && msg.contains("shard 2/3 is missing"),
+        "{msg}"
+    );
     for dir in shards.into_iter().chain([full, merged]) {
         std::fs::remove_dir_all(dir).ok();
     }

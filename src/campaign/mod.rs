@@ -170,18 +170,8 @@ impl Campaign {
                 message: e.to_string(),
             })?
         };
-        let raw: RawCampaign = toml::from_str(&resolved).map_err(|e| {
-            // With overrides the positions refer to the re-serialized text, not the file.
-            let whence = if overrides.is_empty() {
-                ""
-            } else {
-                " (after the --set overrides)"
-            };
-            CampaignError::Schema {
-                file: file.clone(),
-                message: format!("{}{whence}", one_line(&e.to_string())),
-            }
-        })?;
+        let raw: RawCampaign =
+            toml::from_str(&resolved).map_err(|e| schema_error(&file, text, overrides, &e))?;
         let mut c = validate::validate(&raw, path, resolved)?;
         steps::check_fixed_step(&c, &raw)?;
         doc.remove("dispersions");
@@ -252,6 +242,46 @@ impl Campaign {
         c.statistics = self.statistics.clone();
         Ok(c)
     }
+}
+
+/// A schema error with positions the user can find: when the file itself is wrong, its own
+/// error (line and column in the file); otherwise the first `--set` that breaks it, named.
+fn schema_error(
+    file: &Path,
+    text: &str,
+    overrides: &[String],
+    e: &toml::de::Error,
+) -> CampaignError {
+    let schema = |message: String| CampaignError::Schema {
+        file: file.to_path_buf(),
+        message,
+    };
+    if overrides.is_empty() {
+        return schema(one_line(&e.to_string()));
+    }
+    if let Err(own) = toml::from_str::<RawCampaign>(text) {
+        return schema(one_line(&own.to_string()));
+    }
+    let Ok(mut doc) = toml::from_str::<toml::Table>(text) else {
+        return schema(one_line(&e.to_string()));
+    };
+    for o in overrides {
+        if apply_override(&mut doc, o).is_err() {
+            break;
+        }
+        if let Err(err) = toml::Value::Table(doc.clone()).try_into::<RawCampaign>() {
+            let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k.trim());
+            return CampaignError::Override {
+                file: file.to_path_buf(),
+                key: key.to_string(),
+                message: one_line(err.message()),
+            };
+        }
+    }
+    schema(format!(
+        "{} (after the --set overrides)",
+        one_line(&e.to_string())
+    ))
 }
 
 /// Whether `key` names a numeric scalar the schema accepts (present or defaulted).

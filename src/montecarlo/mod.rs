@@ -451,6 +451,43 @@ fn read_shard(dir: &Path) -> Result<ShardDir, RunError> {
     })
 }
 
+/// Every shard `0/N … N−1/N` exactly once; otherwise name the directories at fault and the
+/// shards missing.
+fn check_cover(shards: &[ShardDir], count: u64) -> Result<(), RunError> {
+    let mut problems = Vec::new();
+    for s in shards.iter().filter(|s| s.shard.count != count) {
+        problems.push(format!(
+            "{} is shard {} of a {}-way split, the others of a {count}-way one",
+            s.dir.display(),
+            s.shard,
+            s.shard.count
+        ));
+    }
+    for i in 0..count {
+        let dirs: Vec<String> = shards
+            .iter()
+            .filter(|s| s.shard.count == count && s.shard.index == i)
+            .map(|s| s.dir.display().to_string())
+            .collect();
+        match dirs.len() {
+            0 => problems.push(format!("shard {i}/{count} is missing")),
+            1 => {}
+            _ => problems.push(format!(
+                "shard {i}/{count} is given twice: {}",
+                dirs.join(" and ")
+            )),
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(RunError::Input(format!(
+            "the shards do not cover the campaign exactly once: {}",
+            problems.join("; ")
+        )))
+    }
+}
+
 /// Join shard directories (any order) into `out`: rows in instance order, statistics recomputed,
 /// metadata as the unsharded run writes it. Checks that the shards are of one campaign and
 /// cover it exactly once.
@@ -482,16 +519,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
             )));
         }
     }
-    let indices: Vec<u64> = shards.iter().map(|s| s.shard.index).collect();
-    if shards.iter().any(|s| s.shard.count != count) || indices != (0..count).collect::<Vec<_>>() {
-        return Err(RunError::Input(format!(
-            "shards {:?} do not cover 0..{count} exactly once",
-            shards
-                .iter()
-                .map(|s| s.shard.to_string())
-                .collect::<Vec<_>>()
-        )));
-    }
+    check_cover(&shards, count)?;
     let path = meta_value(&first.meta, "cryoslosh.campaign_path").unwrap_or("campaign.toml");
     let text = meta_value(&first.meta, "cryoslosh.campaign").unwrap_or_default();
     let c = Campaign::from_text(Path::new(path), text, &[])?;

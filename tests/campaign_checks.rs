@@ -1,0 +1,325 @@
+//! Campaign mistakes that used to pass silently: a `--set` on a dispersed key ignored by `run`, a
+//! dispersion centred outside a field's range (every instance rejected, exit 0, NaN statistics),
+//! a regulator set above the relief crack, a phase insert retargeting `phases.3.thrust_n`, a
+//! results directory overwritten, a panic on a closed pipe. Each now exits 2 (or 3) naming the key.
+
+mod common;
+use common::campaign_path;
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+
+fn cryoslosh(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cryoslosh-checks-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A short LOX ascent (1 s pad, 5 s burn) so runs take milliseconds.
+const SHORT: [&str; 4] = [
+    "--set",
+    "phases.pad.duration_s=1",
+    "--set",
+    "phases.ascent.duration_s=5",
+];
+
+#[test]
+fn set_on_a_dispersed_key_is_refused_by_run_naming_the_entry() {
+    let camp = campaign_path("lh2_upper_stage");
+    let out = scratch("dispersed");
+    let o = cryoslosh(&[
+        "run",
+        camp.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "tank.heat_leak_w=500",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("tank.heat_leak_w") && e.contains("dispersions.inputs.0"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    // The same key spelled by phase index or name is one key.
+    let o = cryoslosh(&[
+        "run",
+        camp.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "phases.1.thrust_n=1e5",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("dispersions.inputs.5"),
+        "{}",
+        stderr(&o)
+    );
+    // The nominal of `check` may use it.
+    let o = cryoslosh(&[
+        "check",
+        camp.to_str().unwrap(),
+        "--set",
+        "tank.heat_leak_w=40",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn dispersion_centred_outside_a_range_fails_check_and_run_exits_3() {
+    let camp = campaign_path("lox_ascent");
+    let camp = camp.to_str().unwrap();
+    let cold = [
+        "--set",
+        "dispersions.inputs.0.key=ullage.temperature_k",
+        "--set",
+        "dispersions.inputs.0.mean=30",
+        "--set",
+        "dispersions.inputs.0.std=3",
+    ];
+    let o = cryoslosh(&[&["check", camp][..], &cold, &SHORT].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("ullage.temperature_k"),
+        "{}",
+        stderr(&o)
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("1000 rejected"), "{stdout}");
+
+    let out = scratch("cold");
+    let o = cryoslosh(
+        &[
+            &[
+                "run",
+                camp,
+                "--out",
+                out.to_str().unwrap(),
+                "--instances",
+                "20",
+            ][..],
+            &["--backend", "cpu"],
+            &cold,
+            &SHORT,
+        ]
+        .concat(),
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(3), "{stdout}{}", stderr(&o));
+    assert!(
+        stdout.contains("rejected by        ullage.temperature_k 20"),
+        "{stdout}"
+    );
+    assert!(
+        stderr(&o).contains("20 of 20 instances rejected"),
+        "{}",
+        stderr(&o)
+    );
+    // The outputs are still written, and say it.
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["rejected_by"]["ullage.temperature_k"], 20, "{run}");
+    assert!(run["untrusted"].is_string(), "{run}");
+    std::fs::remove_dir_all(out).ok();
+}
+
+#[test]
+fn cross_field_rules_name_their_keys() {
+    let lh2 = campaign_path("lh2_upper_stage");
+    let lh2 = lh2.to_str().unwrap();
+    for (set, key) in [
+        (
+            "pressurization.setpoint_pa=310000",
+            "pressurization.setpoint_pa",
+        ),
+        ("relief.crack_pa=360000", "relief.crack_pa"),
+        ("relief.reseat_pa=310000", "relief.reseat_pa"),
+    ] {
+        let o = cryoslosh(&["check", lh2, "--set", set]);
+        assert_eq!(o.status.code(), Some(2), "{set}: {}", stderr(&o));
+        assert!(stderr(&o).contains(key), "{set}: {}", stderr(&o));
+    }
+    // A crack above MEOP is allowed when stated.
+    let o = cryoslosh(&[
+        "check",
+        lh2,
+        "--set",
+        "relief.crack_pa=360000",
+        "--set",
+        "relief.reseat_pa=340000",
+        "--set",
+        "relief.crack_above_meop=true",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn phases_are_addressable_by_name() {
+    let lh2 = campaign_path("lh2_upper_stage");
+    let o = cryoslosh(&[
+        "check",
+        lh2.to_str().unwrap(),
+        "--set",
+        "phases.restart.duration_s=150",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let line = out.lines().find(|l| l.contains("restart")).unwrap();
+    assert!(
+        line.contains("3370"),
+        "restart must end at 3220 + 150 s: {line}"
+    );
+    // A phase inserted before it does not retarget the named key.
+    let text = std::fs::read_to_string(&lh2).unwrap().replacen(
+        "[[phases]]",
+        "[[phases]]\nname = \"chill\"\nkind = \"hold\"\nduration_s = 10.0\n\n[[phases]]",
+        1,
+    );
+    let dir = scratch("insert");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("c.toml");
+    std::fs::write(&file, text).unwrap();
+    let c = cryoslosh::campaign::Campaign::load(&file, &["phases.restart.duration_s=150".into()])
+        .unwrap();
+    let restart = c.phases.iter().find(|p| p.name == "restart").unwrap();
+    assert_eq!(restart.duration_s, 150.0);
+    assert_eq!(c.phases[4].name, "restart");
+    // An unknown name lists the names.
+    let o = cryoslosh(&[
+        "check",
+        lh2.to_str().unwrap(),
+        "--set",
+        "phases.restrat.duration_s=150",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("pad_hold, burn1, coast, restart"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn set_type_errors_name_the_key_and_file_errors_keep_their_line() {
+    let mhtb = campaign_path("mhtb_selfpress");
+    let o = cryoslosh(&[
+        "check",
+        mhtb.to_str().unwrap(),
+        "--set",
+        "campaign.allow_coarse_step=yes",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--set campaign.allow_coarse_step: invalid type"),
+        "{}",
+        stderr(&o)
+    );
+    let dir = scratch("badfile");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("c.toml");
+    let text = std::fs::read_to_string(&mhtb).unwrap().replacen(
+        "heat_leak_w = ",
+        "heat_leak_w = \"a\" # ",
+        1,
+    );
+    std::fs::write(&file, &text).unwrap();
+    let line = text
+        .lines()
+        .position(|l| l.contains("heat_leak_w = \"a\""))
+        .unwrap()
+        + 1;
+    let o = cryoslosh(&[
+        "check",
+        file.to_str().unwrap(),
+        "--set",
+        "tank.meop_pa=300000",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains(&format!("line {line}")),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn threshold_on_an_unknown_quantity_is_refused() {
+    let mhtb = campaign_path("mhtb_selfpress");
+    let dir = scratch("threshold");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("c.toml");
+    let text = std::fs::read_to_string(&mhtb).unwrap()
+        + "\n[statistics]\n[[statistics.thresholds]]\nquantity = \"peak_presure_pa\"\nabove = 2e5\n";
+    std::fs::write(&file, text).unwrap();
+    let o = cryoslosh(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("statistics.thresholds.0.quantity"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn non_empty_out_needs_force_and_nothing_dispersed_is_said() {
+    let camp = campaign_path("aydelott_sphere"); // no [dispersions]
+    let camp = camp.to_str().unwrap();
+    let out = scratch("force");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("notes.txt"), "keep").unwrap();
+    let base = [
+        &[
+            "run",
+            camp,
+            "--out",
+            out.to_str().unwrap(),
+            "--instances",
+            "3",
+        ][..],
+        &["--backend", "cpu", "--set", "phases.closed.duration_s=5"][..],
+    ]
+    .concat();
+    let o = cryoslosh(&base);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("notes.txt") && stderr(&o).contains("--force"));
+    assert!(!out.join("run.json").exists());
+    let o = cryoslosh(&[&base[..], &["--force"]].concat());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", stderr(&o));
+    assert!(stdout.contains("no [dispersions]"), "{stdout}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "keep"
+    );
+    std::fs::remove_dir_all(out).ok();
+}
+
+#[test]
+fn a_closed_pipe_ends_quietly() {
+    let camp = campaign_path("lh2_upper_stage");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args(["check", camp.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away before anything is printed
+    let o = child.wait_with_output().unwrap();
+    let e = stderr(&o);
+    assert!(!e.contains("panicked"), "{e}");
+}
