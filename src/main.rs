@@ -86,6 +86,11 @@ enum Command {
         /// Write into a non-empty --out directory (its result files are replaced).
         #[arg(long)]
         force: bool,
+        /// After the run, write the time histories of chosen instances to DIR/histories/:
+        /// `worst:QOI:N` (the N worst of a QoI: smallest for min_*, else largest) and
+        /// `instance:I`, comma-separated, e.g. worst:peak_pressure_pa:5,instance:17.
+        #[arg(long, value_name = "LIST")]
+        histories: Option<String>,
     },
     /// List the GPU adapters the WGSL backend can use (name, backend, type, limits).
     Devices,
@@ -264,9 +269,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             chunk_size,
             set,
             force,
+            histories,
         } => {
             let c = Campaign::load(&campaign, &set)?;
             refuse_non_empty(&out, force)?;
+            let histories = match histories {
+                None => Vec::new(),
+                Some(spec) => montecarlo::histories::parse(&spec).map_err(BadInput)?,
+            };
             c.check_overrides_not_dispersed(&set)?;
             let shard = match shard {
                 None => Shard::ALL,
@@ -287,12 +297,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     Backend::Gpu(_) => 262_144,
                 }),
                 progress: true,
+                histories,
             };
             let report = montecarlo::run(&c, &backend, &opts)?;
             print!("{}", montecarlo::summary_text(&report));
             println!(
-                "wrote {}/{{instances,statistics}}.parquet and run.json",
-                opts.out_dir.display()
+                "wrote {}/{{instances,statistics}}.parquet and run.json{}",
+                opts.out_dir.display(),
+                if opts.histories.is_empty() {
+                    String::new()
+                } else {
+                    format!(", time histories in {}/histories", opts.out_dir.display())
+                }
             );
             check_trust(&report)
         }

@@ -36,6 +36,7 @@ fn rejected_instances_are_nulls_and_readers_agree() {
         shard: Shard::ALL,
         chunk_size: 64,
         progress: false,
+        histories: Vec::new(),
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     let r = montecarlo::run(&c, &backend, &opts).unwrap();

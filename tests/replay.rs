@@ -23,6 +23,7 @@ fn run(c: &Campaign, dir: &Path, n: u64, shard: Shard) {
         shard,
         chunk_size: 8,
         progress: false,
+        histories: Vec::new(),
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     montecarlo::run(c, &backend, &opts).unwrap();
@@ -128,5 +129,58 @@ fn cli_replay_reports_bit_equality_and_refuses_an_instance_beyond_the_run() {
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2), "instance beyond the run");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// `run --histories worst:QOI:N,instance:I` writes one history per chosen instance, and each
+/// history ends where its row of instances.parquet does.
+#[test]
+fn run_writes_the_histories_of_the_worst_and_named_instances() {
+    use cryoslosh::montecarlo::histories;
+    use cryoslosh::montecarlo::table::{read_f64, read_u64};
+    let c = load(
+        "lch4_coast",
+        &["phases.0.duration_s=7200", "campaign.output_interval_s=600"],
+    );
+    let dir = scratch("histories");
+    let opts = RunOptions {
+        out_dir: dir.clone(),
+        instances: 16,
+        seed: 5,
+        shard: Shard::ALL,
+        chunk_size: 8,
+        progress: false,
+        histories: histories::parse("worst:peak_pressure_pa:3,instance:4").unwrap(),
+    };
+    let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
+    montecarlo::run(&c, &backend, &opts).unwrap();
+    let inst = dir.join("instances.parquet");
+    let ids = read_u64(&inst, "instance").unwrap();
+    let peak = read_f64(&inst, "peak_pressure_pa").unwrap();
+    let mut order: Vec<usize> = (0..ids.len()).collect();
+    order.sort_by(|&a, &b| peak[b].total_cmp(&peak[a]));
+    let mut expected: Vec<u64> = order[..3].iter().map(|&r| ids[r]).chain([4]).collect();
+    expected.sort_unstable();
+    expected.dedup();
+    let mut written: Vec<String> = std::fs::read_dir(dir.join("histories"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    let want: Vec<String> = expected
+        .iter()
+        .map(|&i| format!("instance_{i:09}.parquet"))
+        .collect();
+    assert_eq!(written, want);
+    let vented = read_f64(&inst, "vented_kg").unwrap();
+    let final_t = read_f64(&inst, "final_time_s").unwrap();
+    for &i in &expected {
+        let h = histories::history_path(&dir, i);
+        let t = read_f64(&h, "time_s").unwrap();
+        let v = read_f64(&h, "vented_kg").unwrap();
+        let row = ids.iter().position(|&x| x == i).unwrap();
+        assert_eq!(*t.last().unwrap(), final_t[row], "instance {i}");
+        assert_eq!(*v.last().unwrap(), vented[row], "instance {i}");
+    }
     std::fs::remove_dir_all(dir).ok();
 }

@@ -2,6 +2,7 @@
 //! then derives `statistics.parquet` and `run.json`; `merge` joins shard directories into
 //! exactly what the unsharded run writes.
 
+pub mod histories;
 pub mod plan;
 pub mod replay;
 pub mod screen;
@@ -62,6 +63,8 @@ pub struct RunOptions {
     pub chunk_size: u64,
     /// Draw a progress bar on stderr when it is a terminal.
     pub progress: bool,
+    /// Instances whose time histories are written to DIR/histories after the run.
+    pub histories: Vec<histories::Pick>,
 }
 
 /// What a run did, as written to run.json.
@@ -269,6 +272,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         total: o.instances,
     };
     let range = o.shard.range(o.instances);
+    histories::check(&o.histories, &range)?;
     let meta = metadata(c, engine.name(), o.seed, o.instances, o.shard);
     let inst_path = o.out_dir.join("instances.parquet");
     let writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
@@ -340,6 +344,10 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
 
     let full = o.shard.count == 1;
     let rows = finish_statistics(c, &o.out_dir, o.instances, full, meta)?;
+    if !o.histories.is_empty() {
+        let chosen = histories::select(&o.histories, &inst_path)?;
+        histories::write(&plan, &o.out_dir, &chosen)?;
+    }
     let report = RunReport {
         instances: range.end - range.start,
         diverged,
