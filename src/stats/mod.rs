@@ -14,6 +14,7 @@
 //! `(quantity, statistic, threshold, value, ci_low, ci_high, n)`, the row
 //! format of `statistics.parquet`.
 
+mod beta;
 mod sensitivity;
 mod summary;
 
