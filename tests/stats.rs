@@ -20,7 +20,34 @@ impl SplitMix64 {
     fn uniform(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
+
+    /// Standard normal by Box–Muller (Box & Muller 1958), one of the pair.
+    fn normal(&mut self) -> f64 {
+        let u1 = 1.0 - self.uniform(); // (0, 1]: ln is finite
+        let u2 = self.uniform();
+        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+    }
 }
+
+/// Assert that `hits` of `reps` is at least `nominal − 3 se`, se the binomial standard error
+/// of a proportion `nominal` over `reps` repetitions, and at most `ceiling + 3 se` (an
+/// interval that always covers, e.g. the wrong order statistic, is as wrong as one that
+/// rarely does). Returns the empirical coverage.
+fn assert_coverage(hits: u32, reps: u32, nominal: f64, ceiling: f64, what: &str) -> f64 {
+    let coverage = f64::from(hits) / f64::from(reps);
+    let se = (nominal * (1.0 - nominal) / f64::from(reps)).sqrt();
+    assert!(
+        coverage >= nominal - 3.0 * se && coverage <= ceiling + 3.0 * se,
+        "{what}: coverage {coverage} outside [{} − 3·{se}, {ceiling} + 3·{se}]",
+        nominal
+    );
+    println!("{what}: coverage {coverage} (nominal {nominal}, se {se:.4})");
+    coverage
+}
+
+/// Standard normal quantiles (Φ⁻¹, e.g. scipy.stats.norm.ppf) used below.
+const Z90: f64 = 1.281_551_565_544_600_4;
+const Z99: f64 = 2.326_347_874_040_840_8;
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
@@ -429,4 +456,210 @@ fn clopper_pearson_is_fast_and_right_for_huge_campaigns() {
         "took {:?}",
         start.elapsed()
     );
+}
+
+// ------------------------------------------------------- quantile intervals
+
+/// Binomial CDF `P(Binom(n, p) ≤ k)` for k = 0..n by direct summation of the pmf in logs: an
+/// oracle independent of the library's incomplete beta.
+fn binom_cdf_table(n: u64, p: f64) -> Vec<f64> {
+    let mut ln_pmf = n as f64 * (1.0 - p).ln();
+    let ln_odds = (p / (1.0 - p)).ln();
+    let mut acc = 0.0;
+    let mut cdf = Vec::with_capacity(n as usize + 1);
+    for k in 0..=n {
+        acc += ln_pmf.exp();
+        cdf.push(acc.min(1.0));
+        ln_pmf += ((n - k) as f64 / (k + 1) as f64).ln() + ln_odds;
+    }
+    cdf
+}
+
+/// The 1-based ranks (l, u) of the equal-tailed order-statistic interval from the oracle
+/// table; 0 where none exists.
+fn oracle_ranks(n: u64, p: f64, level: f64) -> (u64, u64) {
+    let half = (1.0 - level) / 2.0;
+    let cdf = binom_cdf_table(n, p);
+    let l = (0..n)
+        .rev()
+        .find(|&k| cdf[k as usize] <= half)
+        .map_or(0, |k| k + 1);
+    let u = (0..n)
+        .find(|&k| cdf[k as usize] >= 1.0 - half)
+        .map_or(0, |k| k + 1);
+    (l, u)
+}
+
+#[test]
+fn quantile_interval_hand_case() {
+    // n = 10, p = 0.5, level 0.9 (α/2 = 0.05). Binom(10, ½) CDF × 1024:
+    // F(0) = 1, F(1) = 11, F(2) = 56, F(7) = 968, F(8) = 1013.
+    // Lower: largest k with F(k) ≤ 0.05·1024 = 51.2 is k = 1 → l = 2.
+    // Upper: smallest k with F(k) ≥ 0.95·1024 = 972.8 is k = 8 → u = 9.
+    // Coverage F(8) − F(1) = 1002/1024 ≈ 0.978 ≥ 0.9; interval (X_(2), X_(9)).
+    let x: Vec<f64> = (1..=10).map(f64::from).collect();
+    assert_eq!(quantile_interval(&x, 0.5, 0.9), (2.0, 9.0));
+    // At 99 % (α/2 = 0.005 → 5.12 and 1018.88): l = 1 (F(0) = 1), u = 10 (F(9) = 1023).
+    assert_eq!(quantile_interval(&x, 0.5, 0.99), (1.0, 10.0));
+}
+
+#[test]
+fn quantile_interval_matches_binomial_oracle() {
+    for n in [1u64, 5, 6, 20, 59, 200, 367, 368, 1000] {
+        let x: Vec<f64> = (1..=n).map(|i| i as f64).collect();
+        for p in [0.01, 0.05, 0.1, 0.5, 0.75, 0.9, 0.99] {
+            for level in [0.5, 0.9, 0.95, 0.99] {
+                let (l, u) = oracle_ranks(n, p, level);
+                let (lo, hi) = quantile_interval(&x, p, level);
+                let rank = |v: f64| if v.is_nan() { 0 } else { v as u64 };
+                assert_eq!(
+                    (rank(lo), rank(hi)),
+                    (l, u),
+                    "n = {n}, p = {p}, level = {level}"
+                );
+                if l > 0 && u > 0 {
+                    assert!(l < u);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn quantile_interval_min_n_values() {
+    // (1 − p)ⁿ ≤ 0.025 and pⁿ ≤ 0.025: n ≥ ln 0.025 / ln max(p, 1 − p).
+    assert_eq!(quantile_interval_min_n(0.5, 0.95), 6); // 5.32
+    assert_eq!(quantile_interval_min_n(0.9, 0.95), 36); // 35.01
+    assert_eq!(quantile_interval_min_n(0.1, 0.95), 36);
+    assert_eq!(quantile_interval_min_n(0.95, 0.95), 72); // 71.92
+    assert_eq!(quantile_interval_min_n(0.99, 0.95), 368); // 367.04
+    assert_eq!(quantile_interval_min_n(0.01, 0.95), 368);
+    assert_eq!(quantile_interval_min_n(1e-300, 0.95), u64::MAX);
+    // Agrees with quantile_interval at the boundary.
+    for (p, level) in [
+        (0.5, 0.95),
+        (0.9, 0.9),
+        (0.99, 0.95),
+        (0.3, 0.99),
+        (0.999, 0.5),
+    ] {
+        let m = quantile_interval_min_n(p, level);
+        let x: Vec<f64> = (1..=m).map(|i| i as f64).collect();
+        let (lo, hi) = quantile_interval(&x, p, level);
+        assert!(
+            lo.is_finite() && hi.is_finite(),
+            "p = {p}, level = {level}, n = {m}"
+        );
+        let (lo, hi) = quantile_interval(&x[..x.len() - 1], p, level);
+        assert!(
+            lo.is_nan() || hi.is_nan(),
+            "p = {p}, level = {level}, n = {m} − 1"
+        );
+    }
+    for (p, level) in [
+        (0.0, 0.95),
+        (1.0, 0.95),
+        (0.5, 0.0),
+        (0.5, 1.0),
+        (f64::NAN, 0.9),
+    ] {
+        assert_eq!(quantile_interval_min_n(p, level), 0);
+    }
+}
+
+#[test]
+fn quantile_interval_degenerate_inputs() {
+    let x = [1.0, 2.0, 3.0];
+    for (p, level) in [
+        (0.0, 0.95),
+        (1.0, 0.95),
+        (0.5, 0.0),
+        (0.5, 1.0),
+        (f64::NAN, 0.9),
+    ] {
+        let (lo, hi) = quantile_interval(&x, p, level);
+        assert!(lo.is_nan() && hi.is_nan(), "p = {p}, level = {level}");
+    }
+    let (lo, hi) = quantile_interval(&[], 0.5, 0.95);
+    assert!(lo.is_nan() && hi.is_nan());
+    // n = 200, p = 0.99: 0.99²⁰⁰ = 0.134 > 0.025, so no upper bound; the lower one exists.
+    let y: Vec<f64> = (1..=200).map(f64::from).collect();
+    let (lo, hi) = quantile_interval(&y, 0.99, 0.95);
+    assert!(lo.is_finite() && hi.is_nan(), "{lo} {hi}");
+}
+
+#[test]
+fn quantile_interval_is_fast_and_right_for_huge_campaigns() {
+    let n = 10_000_000u64;
+    let x: Vec<f64> = (1..=n).map(|i| i as f64).collect();
+    let start = std::time::Instant::now();
+    for (p, z) in [(0.5, 1.959_963_984_540_054), (0.99, 1.959_963_984_540_054)] {
+        let (lo, hi) = quantile_interval(&x, p, 0.95);
+        // Normal limit of the ranks: np ∓ z √(np(1 − p)) (+ O(1) skewness terms).
+        let (mean, sd) = (n as f64 * p, (n as f64 * p * (1.0 - p)).sqrt());
+        assert!((lo - (mean - z * sd)).abs() < 3.0, "p = {p}: {lo}");
+        assert!((hi - (mean + z * sd)).abs() < 3.0, "p = {p}: {hi}");
+    }
+    assert!(
+        start.elapsed().as_secs_f64() < 1.0,
+        "took {:?}",
+        start.elapsed()
+    );
+}
+
+#[test]
+fn quantile_interval_coverage() {
+    let reps = 1000u32;
+    let n = 200usize;
+    let level = 0.95;
+    let ps = [(0.5, 0.0), (0.9, Z90), (0.99, Z99)];
+    for (name, transform, seed) in [
+        ("normal", (|z| z) as fn(f64) -> f64, 0x0DD5_EED1u64),
+        ("lognormal", f64::exp as fn(f64) -> f64, 0x10C_A11Du64),
+    ] {
+        let mut rng = SplitMix64(seed);
+        let mut hits = [0u32; 3];
+        for _ in 0..reps {
+            let mut x: Vec<f64> = (0..n).map(|_| transform(rng.normal())).collect();
+            x.sort_by(f64::total_cmp);
+            for (j, &(p, z)) in ps.iter().enumerate() {
+                let truth = transform(z);
+                let (lo, hi) = quantile_interval(&x, p, level);
+                // The 99 % point has no upper bound at n = 200 (needs 368): unbounded above.
+                assert_eq!(hi.is_nan(), p == 0.99);
+                assert!(lo.is_finite());
+                if lo <= truth && (hi.is_nan() || truth <= hi) {
+                    hits[j] += 1;
+                }
+            }
+        }
+        for (j, &(p, _)) in ps.iter().enumerate() {
+            // Exact coverage of the chosen ranks (the oracle), the ceiling for the check.
+            let (l, u) = oracle_ranks(n as u64, p, level);
+            let cdf = binom_cdf_table(n as u64, p);
+            let upper = if u == 0 { 1.0 } else { cdf[u as usize - 1] };
+            let exact = upper - cdf[l as usize - 1];
+            assert!(exact >= level);
+            assert_coverage(hits[j], reps, level, exact, &format!("{name} p = {p}"));
+        }
+    }
+}
+
+// ------------------------------------------------------------- is_constant
+
+#[test]
+fn is_constant_cases() {
+    // A relief valve pins the peak pressure: 3e5 Pa with a 3.4e-10 Pa spread is constant.
+    assert!(is_constant(&[3.0e5, 3.0e5 + 1e-10, 3.0e5 + 3.4e-10]));
+    assert!(is_constant(&[-3.0e5 - 3.4e-10, -3.0e5]));
+    assert!(!is_constant(&[3.0e5, 3.0e5 + 1.0]));
+    assert!(is_constant(&[1.0, 1.0 + 5e-10]));
+    assert!(!is_constant(&[1.0, 1.0 + 2e-9]));
+    assert!(!is_constant(&[-1.0, 1.0]));
+    assert!(is_constant(&[0.0, 0.0, 0.0]));
+    assert!(is_constant(&[0.0, 1e-310])); // below f64::MIN_POSITIVE
+    assert!(!is_constant(&[0.0, 1e-300]));
+    assert!(is_constant(&[]));
+    assert!(is_constant(&[42.0]));
+    assert!(!is_constant(&[f64::NEG_INFINITY, f64::INFINITY]));
 }

@@ -15,8 +15,10 @@
 //! format of `statistics.parquet`.
 
 mod beta;
+mod quantile;
 mod sensitivity;
 mod summary;
 
+pub use quantile::{is_constant, quantile_interval, quantile_interval_min_n};
 pub use sensitivity::{sobol_indices, spearman, SobolIndices};
 pub use summary::{describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES};
