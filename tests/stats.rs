@@ -47,6 +47,7 @@ fn assert_coverage(hits: u32, reps: u32, nominal: f64, ceiling: f64, what: &str)
 
 /// Standard normal quantiles (Φ⁻¹, e.g. scipy.stats.norm.ppf) used below.
 const Z90: f64 = 1.281_551_565_544_600_4;
+const Z95: f64 = 1.644_853_626_951_472_2;
 const Z99: f64 = 2.326_347_874_040_840_8;
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -643,6 +644,120 @@ fn quantile_interval_coverage() {
             assert_coverage(hits[j], reps, level, exact, &format!("{name} p = {p}"));
         }
     }
+}
+
+// ------------------------------------------------------ tolerance bounds
+
+#[test]
+fn wilks_min_samples_known_values() {
+    // 1 − γⁿ ≥ β: 95/95 → 58.4 → 59; 99/90 → 229.1 → 230; 99/95 → 298.1 → 299.
+    assert_eq!(wilks_min_samples(0.95, 0.95, 1), 59);
+    assert_eq!(wilks_min_samples(0.99, 0.90, 1), 230);
+    assert_eq!(wilks_min_samples(0.99, 0.95, 1), 299);
+    // Second and third order at 95/95 (Wilks tables, e.g. Nutt & Wallis 2004).
+    assert_eq!(wilks_min_samples(0.95, 0.95, 2), 93);
+    assert_eq!(wilks_min_samples(0.95, 0.95, 3), 124);
+    // Coverages near 1 need n ≈ 10¹³⁻¹⁵: the Poisson limit P(Poisson(n q) ≥ m) = β, q = 1 − γ.
+    // λ = 62.1710567 for m = 50, 4.7438645 for m = 2 at β = 0.95.
+    for (gamma, m, lambda) in [
+        (1.0 - 1e-12, 50, 62.171_056_7),
+        (1.0 - 1e-15, 2, 4.743_864_5),
+    ] {
+        let expected = lambda / (1.0 - gamma);
+        let n = wilks_min_samples(gamma, 0.95, m) as f64;
+        assert!(
+            (n / expected - 1.0).abs() < 1e-6,
+            "m = {m}: {n} vs {expected}"
+        );
+    }
+    assert_eq!(wilks_min_samples(0.999_999, 0.99, 10), 18_783_113);
+    for (g, b, m) in [
+        (0.0, 0.95, 1),
+        (1.0, 0.95, 1),
+        (0.95, 0.0, 1),
+        (0.95, f64::NAN, 1),
+        (0.95, 0.95, 0),
+    ] {
+        assert_eq!(wilks_min_samples(g, b, m), 0);
+    }
+}
+
+#[test]
+fn tolerance_bound_orders() {
+    let ramp = |n: u64| -> Vec<f64> { (1..=n).map(|i| i as f64).collect() };
+    // n = 59 at 95/95: the maximum, confidence 1 − 0.95⁵⁹ = 0.95151.
+    let t = tolerance_bound(&ramp(59), 0.95, 0.95, Side::Upper);
+    assert_eq!((t.value, t.order, t.n), (59.0, 1, 59));
+    assert!(close(t.achieved_confidence, 1.0 - 0.95f64.powi(59), 1e-12));
+    let t = tolerance_bound(&ramp(59), 0.95, 0.95, Side::Lower);
+    assert_eq!((t.value, t.order), (1.0, 1));
+    // n = 58: not even the maximum qualifies (0.94895).
+    let t = tolerance_bound(&ramp(58), 0.95, 0.95, Side::Upper);
+    assert!(t.value.is_nan() && t.achieved_confidence.is_nan());
+    assert_eq!((t.order, t.n), (0, 58));
+    // n = 92, 93: the second largest qualifies from 93 (0.95002; 92 gives 0.94786).
+    assert_eq!(tolerance_bound(&ramp(92), 0.95, 0.95, Side::Upper).order, 1);
+    let t = tolerance_bound(&ramp(93), 0.95, 0.95, Side::Upper);
+    assert_eq!((t.value, t.order), (92.0, 2));
+    assert!(close(t.achieved_confidence, 0.950_024_2, 1e-6));
+    let t = tolerance_bound(&ramp(93), 0.95, 0.95, Side::Lower);
+    assert_eq!((t.value, t.order), (2.0, 2));
+    assert_eq!(
+        tolerance_bound(&ramp(124), 0.95, 0.95, Side::Upper).order,
+        3
+    );
+    // n = 230 at 99/90: the maximum (0.90090); 229 is too few.
+    let t = tolerance_bound(&ramp(230), 0.99, 0.90, Side::Upper);
+    assert_eq!((t.value, t.order), (230.0, 1));
+    assert!(tolerance_bound(&ramp(229), 0.99, 0.90, Side::Upper)
+        .value
+        .is_nan());
+    // Large n: the order tracks n(1 − γ) − z_β √(nγ(1 − γ)).
+    let n = 1_000_000u64;
+    let t = tolerance_bound(&ramp(n), 0.95, 0.95, Side::Upper);
+    let m = 0.05 * n as f64 - Z95 * (n as f64 * 0.05 * 0.95).sqrt();
+    assert!((t.order as f64 - m).abs() < 3.0, "{t:?} vs {m}");
+    assert!(t.achieved_confidence >= 0.95 && t.achieved_confidence < 0.951);
+    // Degenerate arguments.
+    for (g, b) in [(0.0, 0.95), (1.0, 0.95), (0.95, 1.0), (f64::NAN, 0.95)] {
+        let t = tolerance_bound(&ramp(100), g, b, Side::Upper);
+        assert!(t.value.is_nan() && t.order == 0, "{g} {b}");
+    }
+    assert_eq!(tolerance_bound(&[], 0.95, 0.95, Side::Upper).order, 0);
+}
+
+#[test]
+fn wilks_coverage() {
+    let reps = 1000u32;
+    // 95/95 with n = 59 normal samples: the maximum exceeds the true 95 % point, and the
+    // minimum lies below the true 5 % point, in ≥ 95 % of repetitions.
+    let mut rng = SplitMix64(0x0000_5959);
+    let (mut upper, mut lower) = (0u32, 0u32);
+    let mut achieved = f64::NAN;
+    for _ in 0..reps {
+        let mut x: Vec<f64> = (0..59).map(|_| rng.normal()).collect();
+        x.sort_by(f64::total_cmp);
+        let t = tolerance_bound(&x, 0.95, 0.95, Side::Upper);
+        assert_eq!((t.order, t.value), (1, x[58]));
+        achieved = t.achieved_confidence;
+        upper += u32::from(t.value >= Z95);
+        lower += u32::from(tolerance_bound(&x, 0.95, 0.95, Side::Lower).value <= -Z95);
+    }
+    assert_coverage(upper, reps, 0.95, achieved, "wilks 95/95 upper, normal");
+    assert_coverage(lower, reps, 0.95, achieved, "wilks 95/95 lower, normal");
+
+    // 99/90 with n = 230 lognormal samples.
+    let mut rng = SplitMix64(0x0000_0230);
+    let mut upper = 0u32;
+    for _ in 0..reps {
+        let mut x: Vec<f64> = (0..230).map(|_| rng.normal().exp()).collect();
+        x.sort_by(f64::total_cmp);
+        let t = tolerance_bound(&x, 0.99, 0.90, Side::Upper);
+        assert_eq!(t.order, 1);
+        achieved = t.achieved_confidence;
+        upper += u32::from(t.value >= Z99.exp());
+    }
+    assert_coverage(upper, reps, 0.90, achieved, "wilks 99/90 upper, lognormal");
 }
 
 // ------------------------------------------------------------- is_constant

@@ -18,7 +18,9 @@ mod beta;
 mod quantile;
 mod sensitivity;
 mod summary;
+mod tolerance;
 
 pub use quantile::{is_constant, quantile_interval, quantile_interval_min_n};
 pub use sensitivity::{sobol_indices, spearman, SobolIndices};
 pub use summary::{describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES};
+pub use tolerance::{tolerance_bound, wilks_min_samples, Side, Tolerance};
