@@ -15,12 +15,16 @@
 //! format of `statistics.parquet`.
 
 mod beta;
+mod bootstrap;
 mod quantile;
 mod sensitivity;
 mod summary;
 mod tolerance;
 
 pub use quantile::{is_constant, quantile_interval, quantile_interval_min_n};
-pub use sensitivity::{sobol_indices, spearman, SobolIndices};
+pub use sensitivity::{
+    sobol_analysis, sobol_indices, spearman, SobolAnalysis, SobolEstimate, SobolIndices,
+    SobolOptions,
+};
 pub use summary::{describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES};
 pub use tolerance::{tolerance_bound, wilks_min_samples, Side, Tolerance};
