@@ -760,6 +760,53 @@ fn wilks_coverage() {
     assert_coverage(upper, reps, 0.90, achieved, "wilks 99/90 upper, lognormal");
 }
 
+// ------------------------------------------------------- spearman interval
+
+#[test]
+fn spearman_interval_values() {
+    // z = atanh 0.5, se = √(1.125/100), z₀.₉₇₅ = 1.95996: tanh(z ∓ 1.95996 se).
+    let (lo, hi) = spearman_interval(0.5, 103, 0.95);
+    assert!(close(lo, 0.328_745_030_875_881_5, 1e-9), "{lo}");
+    assert!(close(hi, 0.639_419_846_999_798_7, 1e-9), "{hi}");
+    // ρ = −0.9, n = 50, 99 %.
+    let (lo, hi) = spearman_interval(-0.9, 50, 0.99);
+    assert!(close(lo, -0.957_716_990_697_121_1, 1e-9), "{lo}");
+    assert!(close(hi, -0.772_647_746_936_845_9, 1e-9), "{hi}");
+    assert_eq!(spearman_interval(1.0, 10, 0.95), (1.0, 1.0));
+    assert_eq!(spearman_interval(-1.0, 10, 0.95), (-1.0, -1.0));
+    let nan = |(a, b): (f64, f64)| a.is_nan() && b.is_nan();
+    assert!(nan(spearman_interval(0.5, 3, 0.95)));
+    assert!(nan(spearman_interval(f64::NAN, 100, 0.95)));
+    assert!(nan(spearman_interval(1.5, 100, 0.95)));
+    assert!(nan(spearman_interval(0.5, 100, 1.0)));
+    assert!(nan(spearman_interval(0.5, 100, 0.0)));
+}
+
+#[test]
+fn spearman_interval_coverage() {
+    let reps = 1000u32;
+    let n = 200usize;
+    for (rho, seed) in [(0.0, 11u64), (0.5, 12), (0.9, 13)] {
+        // Population Spearman ρ of a bivariate normal (Pearson 1907).
+        let rho_s = 6.0 / std::f64::consts::PI * (rho / 2.0f64).asin();
+        let mut rng = SplitMix64(seed);
+        let mut hits = 0u32;
+        for _ in 0..reps {
+            let (x, y): (Vec<f64>, Vec<f64>) = (0..n)
+                .map(|_| {
+                    let (u, v) = (rng.normal(), rng.normal());
+                    (u, rho * u + (1.0 - rho * rho).sqrt() * v)
+                })
+                .unzip();
+            let r = spearman(&x, &y);
+            let (lo, hi) = spearman_interval(r, n as u64, 0.95);
+            assert!(lo <= r && r <= hi);
+            hits += u32::from(lo <= rho_s && rho_s <= hi);
+        }
+        assert_coverage(hits, reps, 0.95, 0.95, &format!("spearman rho = {rho}"));
+    }
+}
+
 // ------------------------------------------------------------- is_constant
 
 #[test]
