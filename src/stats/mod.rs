@@ -1,5 +1,7 @@
-//! Campaign statistics: moments, percentiles, exceedance probabilities with
-//! Clopper–Pearson intervals, Spearman and Sobol sensitivities.
+//! Campaign statistics: moments, percentiles with distribution-free
+//! confidence intervals, Wilks tolerance bounds, exceedance probabilities
+//! with Clopper–Pearson intervals, Spearman correlations with Fisher-z
+//! intervals and Sobol sensitivities with bootstrap intervals.
 //!
 //! After a Monte Carlo campaign every quantity of interest (QoI, e.g.
 //! `peak_pressure_pa`) is a column of `f64` values, one per instance. Diverged
@@ -14,8 +16,17 @@
 //! `(quantity, statistic, threshold, value, ci_low, ci_high, n)`, the row
 //! format of `statistics.parquet`.
 
+mod beta;
+mod bootstrap;
+mod quantile;
 mod sensitivity;
 mod summary;
+mod tolerance;
 
-pub use sensitivity::{sobol_indices, spearman, SobolIndices};
+pub use quantile::{is_constant, quantile_interval, quantile_interval_min_n};
+pub use sensitivity::{
+    sobol_analysis, sobol_indices, spearman, spearman_interval, SobolAnalysis, SobolEstimate,
+    SobolIndices, SobolOptions,
+};
 pub use summary::{describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES};
+pub use tolerance::{tolerance_bound, wilks_min_samples, Side, Tolerance};

@@ -8,6 +8,8 @@
 //! which stays valid (conservative) for the tiny probabilities a dispersion
 //! campaign is usually about, where normal-approximation intervals fail.
 
+use super::beta::beta_quantile;
+
 /// One tidy row of `statistics.parquet`.
 ///
 /// `threshold`, `ci_low` and `ci_high` are NaN where not applicable (e.g. a
@@ -223,92 +225,4 @@ fn clopper_pearson(k: u64, n: u64, level: f64) -> (f64, f64) {
         beta_quantile(kf + 1.0, nf - kf, 1.0 - alpha / 2.0)
     };
     (low, high)
-}
-
-/// Quantile of Beta(a, b) at probability `q`; NaN for invalid arguments.
-///
-/// statrs 0.19's inverse (and its incomplete beta) is slow and inaccurate when a and b reach
-/// millions (I_0.5(5e6, 5e6) came out 0.36, not 0.5), which is where a large campaign's
-/// Clopper–Pearson bounds live. So: closed forms for a = 1 or b = 1, otherwise bisection on
-/// [`beta_reg`] to a relative width of 1e-14.
-fn beta_quantile(a: f64, b: f64, q: f64) -> f64 {
-    if !(a > 0.0 && b > 0.0 && (0.0..=1.0).contains(&q)) {
-        return f64::NAN;
-    }
-    if a == 1.0 {
-        return 1.0 - (1.0 - q).powf(1.0 / b);
-    }
-    if b == 1.0 {
-        return q.powf(1.0 / a);
-    }
-    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-    for _ in 0..2000 {
-        let mid = 0.5 * (lo + hi);
-        if beta_reg(a, b, mid) < q {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo <= 1e-14 * hi.max(f64::MIN_POSITIVE) {
-            break;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// Regularized incomplete beta I_x(a, b) by the continued fraction of Numerical Recipes §6.4
-/// (modified Lentz), on the side of the symmetry I_x(a, b) = 1 − I_{1−x}(b, a) where it
-/// converges fast; the prefactor in logs. Converges in O(√max(a, b)) terms.
-fn beta_reg(a: f64, b: f64, x: f64) -> f64 {
-    use statrs::function::gamma::ln_gamma;
-    if x <= 0.0 {
-        return 0.0;
-    }
-    if x >= 1.0 {
-        return 1.0;
-    }
-    let ln_front = ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b) + a * x.ln() + b * (-x).ln_1p();
-    if x < (a + 1.0) / (a + b + 2.0) {
-        ln_front.exp() * beta_cf(a, b, x) / a
-    } else {
-        1.0 - ln_front.exp() * beta_cf(b, a, 1.0 - x) / b
-    }
-}
-
-/// The continued fraction of I_x(a, b) (Numerical Recipes `betacf`), iterated to 1e-15.
-fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
-    let (qab, qap, qam) = (a + b, a + 1.0, a - 1.0);
-    let mut c = 1.0;
-    let mut d = 1.0 / floor_tiny(1.0 - qab * x / qap);
-    let mut h = d;
-    let max_terms = 1000 + 20 * (a.max(b).sqrt() as usize);
-    for m in 1..=max_terms {
-        let m = m as f64;
-        let m2 = 2.0 * m;
-        let even = m * (b - m) * x / ((qam + m2) * (a + m2));
-        h *= lentz_step(even, &mut c, &mut d);
-        let odd = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        let del = lentz_step(odd, &mut c, &mut d);
-        h *= del;
-        if (del - 1.0).abs() < 1e-15 {
-            break;
-        }
-    }
-    h
-}
-
-/// One modified-Lentz update with coefficient `aa`; returns the factor for the convergent.
-fn lentz_step(aa: f64, c: &mut f64, d: &mut f64) -> f64 {
-    *d = 1.0 / floor_tiny(1.0 + aa * *d);
-    *c = floor_tiny(1.0 + aa / *c);
-    *c * *d
-}
-
-/// Keep a Lentz denominator away from zero.
-fn floor_tiny(v: f64) -> f64 {
-    if v.abs() < 1e-300 {
-        1e-300
-    } else {
-        v
-    }
 }
