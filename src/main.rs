@@ -91,6 +91,12 @@ enum Command {
         /// `instance:I`, comma-separated, e.g. worst:peak_pressure_pa:5,instance:17.
         #[arg(long, value_name = "LIST")]
         histories: Option<String>,
+        /// Integrate until an estimate is precise enough, checking every 100 instances, with
+        /// --instances as the cap: QOI>X:H or QOI<X:H (the probability of being above/below X to
+        /// ±H), QOI@pNN:H (the NN % quantile to ±H in the QoI's unit), e.g.
+        /// peak_pressure_pa>350000:0.002. Default: the campaign's [statistics.target].
+        #[arg(long, value_name = "SPEC")]
+        until: Option<String>,
     },
     /// List the GPU adapters the WGSL backend can use (name, backend, type, limits).
     Devices,
@@ -270,6 +276,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             set,
             force,
             histories,
+            until,
         } => {
             let c = Campaign::load(&campaign, &set)?;
             refuse_non_empty(&out, force)?;
@@ -287,9 +294,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 })?,
             };
             let backend = select_backend(&backend, threads, c.stepping.integrator)?;
+            let until = match until {
+                None => None,
+                Some(spec) => {
+                    Some(cryoslosh::campaign::statistics::parse_until(&spec).map_err(BadInput)?)
+                }
+            };
+            let target_cap = c.statistics.target.as_ref().and_then(|t| t.max_instances);
             let opts = RunOptions {
                 out_dir: out,
-                instances: instances.unwrap_or(c.instances),
+                instances: instances
+                    .or(if until.is_none() { target_cap } else { None })
+                    .unwrap_or(c.instances),
                 seed: seed.unwrap_or(c.seed),
                 shard,
                 chunk_size: chunk_size.unwrap_or(match backend {
@@ -298,6 +314,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 }),
                 progress: true,
                 histories,
+                until,
             };
             let report = montecarlo::run(&c, &backend, &opts)?;
             print!("{}", montecarlo::summary_text(&report));

@@ -31,6 +31,7 @@ fn run(c: &Campaign, dir: &Path, n: u64, threads: usize, chunk: u64, shard: Shar
         chunk_size: chunk,
         progress: false,
         histories: Vec::new(),
+        until: None,
     };
     let backend = Backend::Cpu(CpuEngine::new(threads).unwrap());
     montecarlo::run(c, &backend, &opts).unwrap()

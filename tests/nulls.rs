@@ -37,6 +37,7 @@ fn rejected_instances_are_nulls_and_readers_agree() {
         chunk_size: 64,
         progress: false,
         histories: Vec::new(),
+        until: None,
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     let r = montecarlo::run(&c, &backend, &opts).unwrap();

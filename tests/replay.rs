@@ -24,6 +24,7 @@ fn run(c: &Campaign, dir: &Path, n: u64, shard: Shard) {
         chunk_size: 8,
         progress: false,
         histories: Vec::new(),
+        until: None,
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     montecarlo::run(c, &backend, &opts).unwrap();
@@ -151,6 +152,7 @@ fn run_writes_the_histories_of_the_worst_and_named_instances() {
         chunk_size: 8,
         progress: false,
         histories: histories::parse("worst:peak_pressure_pa:3,instance:4").unwrap(),
+        until: None,
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     montecarlo::run(&c, &backend, &opts).unwrap();

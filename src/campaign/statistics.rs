@@ -324,6 +324,69 @@ pub(super) fn validate(
     })
 }
 
+/// Parse `run --until`: `QOI>X:H` or `QOI<X:H` (the probability of being above/below X, to a
+/// half-width H), or `QOI@pNN:H` (the NN % quantile to ±H in the QoI's unit); checked every 100
+/// instances. Quantity names are checked by the run.
+pub fn parse_until(spec: &str) -> Result<Target, String> {
+    let bad = |why: &str| {
+        format!(
+            "--until {spec:?}: {why} (expected QOI>X:H, QOI<X:H or QOI@pNN:H, e.g. \
+             peak_pressure_pa>350000:0.002 or peak_pressure_pa@p99:500)"
+        )
+    };
+    let (what, half) = spec
+        .rsplit_once(':')
+        .ok_or_else(|| bad("no :H half-width"))?;
+    let half_width: f64 = half.trim().parse().map_err(|_| bad("H is not a number"))?;
+    if !(half_width.is_finite() && half_width > 0.0) {
+        return Err(bad("H must be a finite number > 0"));
+    }
+    let number = |x: &str| -> Result<f64, String> {
+        x.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad("the threshold is not a finite number"))
+    };
+    let estimate = if let Some((q, p)) = what.split_once('@') {
+        let p = p.trim();
+        let p: f64 = match p.strip_prefix('p') {
+            Some(pct) => pct.parse::<f64>().map(|v| v / 100.0),
+            None => p.parse::<f64>(),
+        }
+        .map_err(|_| bad("the quantile is not pNN or a probability"))?;
+        if !(p > 0.0 && p < 1.0) {
+            return Err(bad("the quantile must lie in (0, 1)"));
+        }
+        TargetEstimate::Quantile {
+            quantity: q.trim().to_string(),
+            p,
+        }
+    } else if let Some((q, x)) = what.split_once('>') {
+        TargetEstimate::Probability(Threshold {
+            key: "--until".into(),
+            quantity: q.trim().to_string(),
+            side: Side::Above,
+            value: number(x)?,
+        })
+    } else if let Some((q, x)) = what.split_once('<') {
+        TargetEstimate::Probability(Threshold {
+            key: "--until".into(),
+            quantity: q.trim().to_string(),
+            side: Side::Below,
+            value: number(x)?,
+        })
+    } else {
+        return Err(bad("no >, < or @"));
+    };
+    Ok(Target {
+        estimate,
+        half_width,
+        max_instances: None,
+        check_every: 100,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -335,6 +398,22 @@ mod tests {
         assert_eq!(quantile_name(0.5), "p50");
         assert_eq!(quantile_name(0.999), "p99.9");
         assert_eq!(quantile_name(0.001), "p0.1");
+    }
+
+    #[test]
+    fn until_spelling() {
+        let t = parse_until("peak_pressure_pa>350000:0.002").unwrap();
+        assert_eq!(t.half_width, 0.002);
+        assert!(matches!(
+            t.estimate,
+            TargetEstimate::Probability(Threshold { side: Side::Above, value, .. }) if value == 350000.0
+        ));
+        let t = parse_until("min_cavitation_margin_m@p01:0.5").unwrap();
+        assert!(matches!(t.estimate, TargetEstimate::Quantile { p, .. } if p == 0.01));
+        assert!(parse_until("peak_pressure_pa>350000").is_err());
+        assert!(parse_until("peak_pressure_pa=3:0.1").is_err());
+        assert!(parse_until("peak_pressure_pa@p100:1").is_err());
+        assert!(parse_until("peak_pressure_pa>1:-1").is_err());
     }
 
     #[test]

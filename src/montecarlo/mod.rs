@@ -8,6 +8,7 @@ pub mod replay;
 pub mod screen;
 pub mod statistics;
 pub mod table;
+pub mod until;
 
 use crate::campaign::{Campaign, CampaignError};
 use crate::engine::Backend;
@@ -65,6 +66,19 @@ pub struct RunOptions {
     pub progress: bool,
     /// Instances whose time histories are written to DIR/histories after the run.
     pub histories: Vec<histories::Pick>,
+    /// Stop early once this estimate is precise enough (`--until`; else the campaign's
+    /// `[statistics.target]`); `instances` is then the cap.
+    pub until: Option<crate::campaign::statistics::Target>,
+}
+
+impl RunOptions {
+    /// The precision target of the run: `--until`, else the campaign's.
+    pub fn target<'a>(
+        &'a self,
+        c: &'a Campaign,
+    ) -> Option<&'a crate::campaign::statistics::Target> {
+        self.until.as_ref().or(c.statistics.target.as_ref())
+    }
 }
 
 /// What a run did, as written to run.json.
@@ -90,6 +104,8 @@ pub struct RunReport {
     /// The shares above which the run is not trusted (exit code 3).
     pub max_rejected_fraction: f64,
     pub max_diverged_fraction: f64,
+    /// A precision-driven run: the estimate, its interval and whether the target was reached.
+    pub until: Option<String>,
     pub statistics: Vec<Row>,
 }
 
@@ -156,42 +172,73 @@ pub enum RunError {
     Engine(String),
 }
 
+/// A `[statistics]` or `--until` key naming a QoI column, or the error naming the key.
+fn check_quantity(c: &Campaign, key: &str, q: &str) -> Result<(), RunError> {
+    if table::QOI_F64.iter().any(|(name, _)| *name == q) {
+        return Ok(());
+    }
+    let names: Vec<&str> = table::QOI_F64.iter().map(|(n, _)| *n).collect();
+    Err(RunError::Campaign(CampaignError::Invalid {
+        file: c.path.clone(),
+        key: key.to_string(),
+        value: format!("{q:?}"),
+        allowed: format!(
+            "a quantity column of instances.parquet: {}",
+            names.join(", ")
+        ),
+    }))
+}
+
+/// The quantity a target's estimate is about.
+fn target_quantity(t: &crate::campaign::statistics::Target) -> &str {
+    match &t.estimate {
+        crate::campaign::statistics::TargetEstimate::Probability(th) => &th.quantity,
+        crate::campaign::statistics::TargetEstimate::Quantile { quantity, .. } => quantity,
+    }
+}
+
 /// Check that every `[statistics]` threshold and target names a QoI column.
 pub fn check_statistics(c: &Campaign) -> Result<(), RunError> {
     let st = &c.statistics;
-    let target = st.target.as_ref().map(|t| match &t.estimate {
-        crate::campaign::statistics::TargetEstimate::Probability(th) => {
-            ("statistics.target".to_string(), th.quantity.as_str())
-        }
-        crate::campaign::statistics::TargetEstimate::Quantile { quantity, .. } => {
-            ("statistics.target".to_string(), quantity.as_str())
-        }
-    });
-    let named = st
-        .thresholds
-        .iter()
-        .map(|t| (t.key.clone(), t.quantity.as_str()))
-        .chain(target);
-    for (key, q) in named {
-        if !table::QOI_F64.iter().any(|(name, _)| *name == q) {
-            let names: Vec<&str> = table::QOI_F64.iter().map(|(n, _)| *n).collect();
-            return Err(RunError::Campaign(CampaignError::Invalid {
-                file: c.path.clone(),
-                key: format!("{key}.quantity"),
-                value: format!("{q:?}"),
-                allowed: format!(
-                    "a quantity column of instances.parquet: {}",
-                    names.join(", ")
-                ),
-            }));
-        }
+    for t in &st.thresholds {
+        check_quantity(c, &format!("{}.quantity", t.key), &t.quantity)?;
     }
+    if let Some(t) = &st.target {
+        check_quantity(c, "statistics.target.quantity", target_quantity(t))?;
+    }
+    Ok(())
+}
+
+/// Check a precision target against the run: one process sees every instance in order, under
+/// a design whose samples do not depend on the final count.
+fn check_target(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
+    let Some(t) = o.target(c) else {
+        return Ok(());
+    };
+    if let Some(u) = &o.until {
+        check_quantity(c, "--until", target_quantity(u))?;
+    }
+    if o.shard.count > 1 {
+        return Err(RunError::Input(
+            "--until (or [statistics.target]) needs every instance in one run: not with --shard"
+                .into(),
+        ));
+    }
+    if c.dispersions.design == Design::LatinHypercube {
+        return Err(RunError::Input(format!(
+            "{}: a precision target stops at a count not known in advance, and latin_hypercube \
+             strata depend on that count: use monte_carlo or sobol (or drop the target)",
+            c.path.display()
+        )));
+    }
+    let _ = t;
     Ok(())
 }
 
 /// Check run options against the campaign before anything is written.
 pub fn check_options(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
     check_statistics(c)?;
+    check_target(c, o)?;
     if o.instances == 0 {
         return Err(RunError::Input("--instances must be at least 1".into()));
     }
@@ -219,16 +266,19 @@ pub fn check_options(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
 }
 
 /// File-level metadata of both Parquet files of a run.
+/// `instances` is `None` for a precision-driven run: its count is appended when it stops.
 fn metadata(
     c: &Campaign,
     backend: &str,
     o_seed: u64,
-    instances: u64,
+    instances: Option<u64>,
     shard: Shard,
 ) -> Vec<(String, String)> {
     let mut m = crate::history::provenance(c, backend, &shard.to_string());
     set_meta(&mut m, "cryoslosh.seed", o_seed.to_string());
-    m.push(("cryoslosh.instances".into(), instances.to_string()));
+    if let Some(n) = instances {
+        m.push(("cryoslosh.instances".into(), n.to_string()));
+    }
     m.push((
         "cryoslosh.design".into(),
         c.dispersions.design.name().into(),
@@ -273,9 +323,18 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     };
     let range = o.shard.range(o.instances);
     histories::check(&o.histories, &range)?;
-    let meta = metadata(c, engine.name(), o.seed, o.instances, o.shard);
+    let group = match c.dispersions.design {
+        Design::Saltelli => c.dispersions.inputs.len() as u64 + 2,
+        _ => 1,
+    };
+    let mut stopper = o
+        .target(c)
+        .and_then(|t| until::Stopper::new(t.clone(), c.statistics.confidence, range.start, group));
+    let count_known = stopper.is_none().then_some(o.instances);
+    let mut meta = metadata(c, engine.name(), o.seed, count_known, o.shard);
     let inst_path = o.out_dir.join("instances.parquet");
     let writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
+    let mut stop_at = range.end;
 
     let bar = progress_bar(o.progress, range.end - range.start);
     let start = std::time::Instant::now();
@@ -284,14 +343,23 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     // Double buffering: a writer thread encodes chunk k to Parquet while the engine integrates
     // chunk k + 1 (one chunk in flight bounds memory at two chunks).
     // `None` marks the end: only then is the file renamed into place.
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Option<Vec<plan::InstanceRecord>>>(1);
+    // `Err(count)` marks the end (with the instance count when only now known): only then is
+    // the file renamed into place.
+    type Message = Result<Vec<plan::InstanceRecord>, Option<u64>>;
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Message>(1);
     let outcome = std::thread::scope(|scope| -> Result<(), RunError> {
         let mut writer = writer;
         let writing = scope.spawn(move || -> Result<(), RunError> {
             for block in rx {
-                let Some(block) = block else {
-                    writer.finish()?;
-                    return Ok(());
+                let block = match block {
+                    Ok(block) => block,
+                    Err(count) => {
+                        if let Some(n) = count {
+                            writer.append_metadata("cryoslosh.instances", &n.to_string());
+                        }
+                        writer.finish()?;
+                        return Ok(());
+                    }
                 };
                 for r in &block {
                     writer.push(r)?;
@@ -301,8 +369,11 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         });
         let mut at = range.start;
         let mut integrated = Ok(());
-        while at < range.end {
-            let end = (at + o.chunk_size).min(range.end);
+        while at < stop_at {
+            let mut end = (at + o.chunk_size).min(stop_at);
+            if let Some(s) = &stopper {
+                end = end.min(s.next_check());
+            }
             let block = match engine.run_block(&plan, at..end) {
                 Ok(b) => b,
                 Err(e) => {
@@ -318,14 +389,20 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
                     *rejected_by.entry(key.clone()).or_default() += 1;
                 }
             }
-            if tx.send(Some(block)).is_err() {
+            if let Some(s) = &mut stopper {
+                s.observe(&block);
+            }
+            if tx.send(Ok(block)).is_err() {
                 break; // the writer failed; its error is reported below
             }
             bar.inc(end - at);
             at = end;
+            if stopper.as_mut().is_some_and(|s| s.check(at)) {
+                stop_at = at;
+            }
         }
         if integrated.is_ok() {
-            let _ = tx.send(None);
+            let _ = tx.send(Err(stopper.is_some().then_some(at)));
         }
         drop(tx);
         let written = writing
@@ -343,13 +420,27 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let wall_s = start.elapsed().as_secs_f64();
 
     let full = o.shard.count == 1;
-    let rows = finish_statistics(c, &o.out_dir, o.instances, full, meta)?;
+    // A precision-driven run holds the instances up to where it stopped.
+    let total = match &mut stopper {
+        Some(s) => {
+            if s.last
+                .as_ref()
+                .is_none_or(|p| p.instances != stop_at - range.start)
+            {
+                s.last = Some(s.progress());
+            }
+            meta.push(("cryoslosh.instances".into(), stop_at.to_string()));
+            stop_at
+        }
+        None => o.instances,
+    };
+    let rows = finish_statistics(c, &o.out_dir, total, full, meta)?;
     if !o.histories.is_empty() {
         let chosen = histories::select(&o.histories, &inst_path)?;
         histories::write(&plan, &o.out_dir, &chosen)?;
     }
     let report = RunReport {
-        instances: range.end - range.start,
+        instances: stop_at - range.start,
         diverged,
         rejected,
         instance_steps: steps,
@@ -368,9 +459,10 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         dispersed: !c.dispersions.inputs.is_empty(),
         max_rejected_fraction: c.statistics.max_rejected_fraction,
         max_diverged_fraction: c.statistics.max_diverged_fraction,
+        until: stopper.as_ref().map(until::Stopper::describe),
         statistics: rows,
     };
-    write_run_json(&o.out_dir, &report, o.instances)?;
+    write_run_json(&o.out_dir, &report, total)?;
     Ok(report)
 }
 
@@ -423,6 +515,7 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "integrator": r.integrator,
         "rejected_by": r.rejected_by.iter().map(|(k, n)| (k.clone(), serde_json::json!(n))).collect::<serde_json::Map<_, _>>(),
         "untrusted": r.untrusted(),
+        "until": r.until,
         "version": crate::VERSION,
     });
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
@@ -592,6 +685,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
         dispersed: !c.dispersions.inputs.is_empty(),
         max_rejected_fraction: c.statistics.max_rejected_fraction,
         max_diverged_fraction: c.statistics.max_diverged_fraction,
+        until: None,
         statistics: stats,
     };
     write_run_json(out, &report, total)?;
@@ -614,6 +708,9 @@ pub fn summary_text(r: &RunReport) -> String {
     );
     if !r.dispersed {
         out += "note: the campaign has no [dispersions]: every instance is the nominal\n";
+    }
+    if let Some(u) = &r.until {
+        out += &format!("until              {u}\n");
     }
     if !r.rejected_by.is_empty() {
         let list: Vec<String> = r

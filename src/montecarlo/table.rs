@@ -236,6 +236,11 @@ impl InstanceWriter {
         Ok(())
     }
 
+    /// Add a file-level metadata entry known only at the end.
+    pub fn append_metadata(&mut self, key: &str, value: &str) {
+        self.writer.append_metadata(key, value);
+    }
+
     /// Write what is buffered and rename the file into place. Returns the rows written.
     pub fn finish(mut self) -> Result<u64, OutputError> {
         while self.rows() > 0 {

@@ -338,6 +338,14 @@ impl TableWriter {
         Ok(())
     }
 
+    /// Add a file-level key-value entry known only at the end (e.g. the instance count of a
+    /// precision-driven run); written into the footer by [`finish`](Self::finish).
+    pub fn append_metadata(&mut self, key: &str, value: &str) {
+        if let Some(w) = self.writer.as_mut() {
+            w.append_key_value_metadata(KeyValue::new(key.to_string(), value.to_string()));
+        }
+    }
+
     /// Rows written so far (across all chunks).
     pub fn rows_written(&self) -> u64 {
         self.rows
