@@ -47,7 +47,7 @@ fn until_stops_at_the_same_instance_for_any_threads_and_chunks() {
     let rb = run(&b, 2, 64, spec);
     assert_eq!(ra.instances, rb.instances);
     let stop = ra.instances;
-    assert!(stop < 300 && stop % 100 == 0, "stopped at {stop}");
+    assert!(stop < 300 && stop.is_multiple_of(100), "stopped at {stop}");
     assert!(
         ra.until.as_deref().unwrap().contains("reached"),
         "{:?}",
