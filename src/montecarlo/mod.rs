@@ -7,6 +7,7 @@ pub mod plan;
 pub mod replay;
 pub mod screen;
 pub mod statistics;
+mod summary;
 pub mod table;
 pub mod until;
 
@@ -15,10 +16,11 @@ use crate::engine::Backend;
 use crate::output::{atomic::write_atomic, OutputError};
 use crate::sampling::Design;
 use plan::Plan;
-use statistics::{Row, Thresholds};
+use statistics::Row;
 use std::io::IsTerminal;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+pub use summary::summary_text;
 use table::{InstanceWriter, ReadError};
 
 /// A contiguous slice of the instance range: shard `index` of `count`.
@@ -300,13 +302,6 @@ fn set_meta(meta: &mut [(String, String)], key: &str, value: String) {
     }
 }
 
-fn thresholds(c: &Campaign) -> Thresholds {
-    Thresholds {
-        meop_pa: c.params.meop_pa,
-        boiloff_budget_kg: c.dispersions.boiloff_budget_kg,
-    }
-}
-
 /// Run shard `o.shard` of the campaign on `backend`, writing DIR/instances.parquet,
 /// DIR/statistics.parquet and DIR/run.json.
 pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport, RunError> {
@@ -434,7 +429,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         }
         None => o.instances,
     };
-    let rows = finish_statistics(c, &o.out_dir, total, full, meta)?;
+    let rows = finish_statistics(c, &o.out_dir, total, o.seed, full, meta)?;
     if !o.histories.is_empty() {
         let chosen = histories::select(&o.histories, &inst_path)?;
         histories::write(&plan, &o.out_dir, &chosen)?;
@@ -472,6 +467,7 @@ fn finish_statistics(
     c: &Campaign,
     dir: &Path,
     total: u64,
+    seed: u64,
     full: bool,
     meta: Vec<(String, String)>,
 ) -> Result<Vec<Row>, RunError> {
@@ -479,7 +475,15 @@ fn finish_statistics(
     if !full && d.design == Design::Saltelli {
         d.design = Design::Sobol;
     }
-    let rows = statistics::compute(&dir.join("instances.parquet"), &d, thresholds(c), total)?;
+    let spec = statistics::Spec {
+        dispersions: d,
+        plan: c.statistics.clone(),
+        meop_pa: c.params.meop_pa,
+        boiloff_budget_kg: c.dispersions.boiloff_budget_kg,
+        total,
+        seed,
+    };
+    let rows = statistics::compute(&dir.join("instances.parquet"), &spec)?;
     statistics::write(&dir.join("statistics.parquet"), &rows, meta)?;
     Ok(rows)
 }
@@ -646,7 +650,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
             "the shards hold {rows} instances, the campaign {total}"
         )));
     }
-    let stats = finish_statistics(&c, out, total, true, meta)?;
+    let seed = meta_value(&first.meta, "cryoslosh.seed")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(c.seed);
+    let stats = finish_statistics(&c, out, total, seed, true, meta)?;
     let sum = |key: &str| {
         shards
             .iter()
@@ -690,103 +697,4 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
     };
     write_run_json(out, &report, total)?;
     Ok(report)
-}
-
-/// The terminal summary: margins, tail probabilities, top drivers.
-pub fn summary_text(r: &RunReport) -> String {
-    use statistics::find;
-    let s = &r.statistics;
-    let mut out = format!(
-        "{} instances ({} diverged, {} rejected), {} instance-steps in {:.2} s = {:.3e} instance-steps/s on {}\n",
-        r.instances,
-        r.diverged,
-        r.rejected,
-        r.instance_steps,
-        r.wall_s,
-        r.instance_steps as f64 / r.wall_s.max(1e-9),
-        r.device
-    );
-    if !r.dispersed {
-        out += "note: the campaign has no [dispersions]: every instance is the nominal\n";
-    }
-    if let Some(u) = &r.until {
-        out += &format!("until              {u}\n");
-    }
-    if !r.rejected_by.is_empty() {
-        let list: Vec<String> = r
-            .rejected_by
-            .iter()
-            .map(|(k, n)| format!("{k} {n}"))
-            .collect();
-        out += &format!("rejected by        {}\n", list.join(", "));
-    }
-    let stat = |q: &str, st: &str| find(s, q, st).map(|x| x.value).unwrap_or(f64::NAN);
-    let prob = |q: &str, st: &str| {
-        find(s, q, st).map_or_else(String::new, |x| {
-            format!(
-                "P = {:.4} [{:.4}, {:.4}] at {}",
-                x.value, x.ci_low, x.ci_high, x.threshold
-            )
-        })
-    };
-    out += &format!(
-        "peak pressure      p50 {:.0} Pa  p99 {:.0} Pa  max {:.0} Pa; above MEOP: {}\n",
-        stat("peak_pressure_pa", "p50"),
-        stat("peak_pressure_pa", "p99"),
-        stat("peak_pressure_pa", "max"),
-        prob("peak_pressure_pa", "prob_exceed")
-    );
-    if find(s, "min_cavitation_margin_m", "p01").is_some_and(|x| x.n > 0) {
-        out += &format!(
-            "cavitation margin  p01 {:.3} m  p50 {:.3} m  min {:.3} m; below 0: {}\n",
-            stat("min_cavitation_margin_m", "p01"),
-            stat("min_cavitation_margin_m", "p50"),
-            stat("min_cavitation_margin_m", "min"),
-            prob("min_cavitation_margin_m", "prob_below")
-        );
-    }
-    out += &format!(
-        "boil-off           p50 {:.4} kg  p99 {:.4} kg{}\n",
-        stat("boiloff_kg", "p50"),
-        stat("boiloff_kg", "p99"),
-        find(s, "boiloff_kg", "prob_exceed").map_or_else(String::new, |_| format!(
-            "; over budget: {}",
-            prob("boiloff_kg", "prob_exceed")
-        ))
-    );
-    out += &format!(
-        "vented             p50 {:.4} kg  p99 {:.4} kg;  max slosh angle p99 {:.4} rad\n",
-        stat("vented_kg", "p50"),
-        stat("vented_kg", "p99"),
-        stat("max_slosh_angle_rad", "p99")
-    );
-    for (name, what) in [
-        ("depleted", "ran dry (depleted)"),
-        ("pressurant_exhausted", "pressurant exhausted"),
-    ] {
-        if let Some(x) = find(s, name, "fraction").filter(|x| x.value > 0.0) {
-            out += &format!(
-                "{what:18} P = {:.4} [{:.4}, {:.4}] of {} valid instances\n",
-                x.value, x.ci_low, x.ci_high, x.n
-            );
-        }
-    }
-    for q in statistics::SENSITIVITY_QOIS {
-        let mut drivers: Vec<&Row> = s
-            .iter()
-            .filter(|x| {
-                x.stat.quantity == q && x.stat.statistic == "spearman" && x.stat.value.is_finite()
-            })
-            .collect();
-        drivers.sort_by(|a, b| b.stat.value.abs().total_cmp(&a.stat.value.abs()));
-        if !drivers.is_empty() {
-            let top: Vec<String> = drivers
-                .iter()
-                .take(3)
-                .map(|d| format!("{} {:+.2}", d.input, d.stat.value))
-                .collect();
-            out += &format!("drivers of {q:24} (Spearman) {}\n", top.join(", "));
-        }
-    }
-    out
 }

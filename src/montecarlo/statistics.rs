@@ -2,33 +2,55 @@
 //! (bounded memory), written as the tidy `statistics.parquet`.
 //!
 //! Diverged and rejected instances are excluded from every statistic and counted separately.
+//! Every estimate a margin is signed with carries an interval: quantiles their distribution-free
+//! order-statistic interval, tail probabilities Clopper–Pearson, Spearman's ρ the Fisher-z
+//! interval with the Bonett–Wright variance, Sobol indices a bootstrap over complete groups; and
+//! the campaign's one-sided (Wilks) tolerance bounds are reported beside them.
 
 use super::table::{read_bool, read_f64, ReadError, QOI_F64};
 use crate::campaign::dispersion::Dispersions;
+use crate::campaign::statistics::{quantile_name, Side, StatisticsPlan, Threshold};
 use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
 use crate::sampling::{saltelli_layout, Design, SaltelliRow};
-use crate::stats::{describe, exceedance, sobol_indices, spearman, Direction, StatRow};
+use crate::stats::{
+    describe, exceedance, is_constant, percentile, quantile_interval, sobol_analysis, spearman,
+    spearman_interval, tolerance_bound, wilks_min_samples, Direction, SobolOptions, StatRow,
+};
 use std::path::Path;
 
-/// A statistics row with the dispersed input it refers to (sensitivities), "" otherwise.
+/// A statistics row: the tidy [`StatRow`] plus the dispersed input it refers to (sensitivities;
+/// "" = null otherwise), the probability level (a quantile's p, a tolerance bound's coverage)
+/// and the confidence level of its interval or bound (NaN = null where there is none).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
     pub stat: StatRow,
     pub input: String,
+    pub probability: f64,
+    pub confidence: f64,
 }
 
 fn plain(stat: StatRow) -> Row {
     Row {
         stat,
         input: String::new(),
+        probability: f64::NAN,
+        confidence: f64::NAN,
     }
 }
 
-/// Thresholds of the exceedance probabilities.
-#[derive(Clone, Copy, Debug)]
-pub struct Thresholds {
+/// What the statistics of a campaign are computed with.
+#[derive(Clone, Debug)]
+pub struct Spec {
+    pub dispersions: Dispersions,
+    pub plan: StatisticsPlan,
+    /// Maximum expected operating pressure, Pa (the `prob_exceed` row of `peak_pressure_pa`).
     pub meop_pa: f64,
+    /// Boil-off budget, kg (a `prob_exceed` row of `boiloff_kg` when set).
     pub boiloff_budget_kg: Option<f64>,
+    /// Instances in the campaign (the Saltelli groups come from it).
+    pub total: u64,
+    /// Seed of the bootstrap resamples (the campaign's seed: statistics are reproducible).
+    pub seed: u64,
 }
 
 /// QoIs whose sensitivities are reported (the margins a designer sizes a tank against).
@@ -41,33 +63,121 @@ pub const SENSITIVITY_QOIS: [&str; 6] = [
     "peak_slosh_force_n",
 ];
 
-fn exceed_row(
-    quantity: &str,
-    statistic: &str,
-    values: &[f64],
-    threshold: f64,
-    dir: Direction,
-    level: f64,
-) -> Row {
-    let e = exceedance(values, threshold, dir, level);
-    plain(StatRow {
+/// The `prob_exceed` (above) or `prob_below` row of a threshold, with its Clopper–Pearson
+/// interval.
+fn threshold_row(t: &Threshold, values: &[f64], level: f64) -> Row {
+    let (dir, statistic) = match t.side {
+        Side::Above => (Direction::Above, "prob_exceed"),
+        Side::Below => (Direction::Below, "prob_below"),
+    };
+    let e = exceedance(values, t.value, dir, level);
+    Row {
+        confidence: level,
+        ..plain(StatRow {
+            quantity: t.quantity.clone(),
+            statistic: statistic.into(),
+            threshold: t.value,
+            value: e.p,
+            ci_low: e.ci_low,
+            ci_high: e.ci_high,
+            n: e.n,
+        })
+    }
+}
+
+/// The thresholds reported: MEOP, cavitation margin < 0, the boil-off budget, then the
+/// campaign's own (a repeat of one of these is reported once).
+pub fn thresholds(spec: &Spec) -> Vec<Threshold> {
+    let t = |quantity: &str, side, value| Threshold {
+        key: String::new(),
         quantity: quantity.into(),
-        statistic: statistic.into(),
-        threshold,
-        value: e.p,
-        ci_low: e.ci_low,
-        ci_high: e.ci_high,
-        n: e.n,
-    })
+        side,
+        value,
+    };
+    let mut all = vec![
+        t("peak_pressure_pa", Side::Above, spec.meop_pa),
+        t("min_cavitation_margin_m", Side::Below, 0.0),
+    ];
+    if let Some(b) = spec.boiloff_budget_kg {
+        all.push(t("boiloff_kg", Side::Above, b));
+    }
+    for u in &spec.plan.thresholds {
+        let seen = all
+            .iter()
+            .any(|a| a.quantity == u.quantity && a.side == u.side && a.value == u.value);
+        if !seen {
+            all.push(u.clone());
+        }
+    }
+    all
+}
+
+/// Moments and extremes, the plan's quantiles with their intervals, and its tolerance bounds.
+fn distribution_rows(name: &str, values: &[f64], plan: &StatisticsPlan) -> Vec<Row> {
+    let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len() as u64;
+    // mean, std, min, max from `describe`; its fixed percentiles are replaced by the plan's.
+    let mut rows: Vec<Row> = describe(name, values)
+        .into_iter()
+        .take(4)
+        .map(plain)
+        .collect();
+    let level = plan.confidence;
+    for &p in &plan.quantiles {
+        let (lo, hi) = quantile_interval(&sorted, p, level);
+        rows.push(Row {
+            probability: p,
+            confidence: level,
+            ..plain(StatRow {
+                quantity: name.into(),
+                statistic: quantile_name(p),
+                threshold: f64::NAN,
+                value: percentile(&sorted, p),
+                ci_low: lo,
+                ci_high: hi,
+                n,
+            })
+        });
+    }
+    for &(coverage, confidence) in &plan.tolerance {
+        for (side, statistic) in [
+            (crate::stats::Side::Upper, "tolerance_upper"),
+            (crate::stats::Side::Lower, "tolerance_lower"),
+        ] {
+            let t = tolerance_bound(&sorted, coverage, confidence, side);
+            rows.push(Row {
+                probability: coverage,
+                confidence,
+                ..plain(StatRow {
+                    quantity: name.into(),
+                    statistic: statistic.into(),
+                    threshold: f64::NAN,
+                    value: t.value,
+                    ci_low: f64::NAN,
+                    ci_high: f64::NAN,
+                    n,
+                })
+            });
+        }
+    }
+    if n > 0 && is_constant(&sorted) {
+        rows.push(plain(StatRow {
+            quantity: name.into(),
+            statistic: "constant".into(),
+            threshold: f64::NAN,
+            value: sorted[sorted.len() - 1] - sorted[0],
+            ci_low: f64::NAN,
+            ci_high: f64::NAN,
+            n,
+        }));
+    }
+    rows
 }
 
 /// Every statistic of the campaign in `path`.
-pub fn compute(
-    path: &Path,
-    d: &Dispersions,
-    thresholds: Thresholds,
-    total: u64,
-) -> Result<Vec<Row>, ReadError> {
+pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
+    let d = &spec.dispersions;
     let diverged = read_bool(path, "diverged")?;
     let rejected = read_bool(path, "rejected")?;
     let valid: Vec<bool> = diverged
@@ -81,105 +191,105 @@ pub fn compute(
             .map(|(x, &ok)| if ok { x } else { f64::NAN })
             .collect()
     };
-    let level = d.confidence;
+    let level = spec.plan.confidence;
     let mut rows = Vec::new();
-
+    let fraction = |name: &str, ones: &[f64]| {
+        threshold_row(
+            &Threshold {
+                key: String::new(),
+                quantity: name.into(),
+                side: Side::Above,
+                value: 0.5,
+            },
+            ones,
+            level,
+        )
+    };
+    let fraction_row = |name: &str, ones: &[f64]| {
+        let mut r = fraction(name, ones);
+        r.stat.statistic = "fraction".into();
+        r.stat.threshold = f64::NAN;
+        r
+    };
     for (name, flags) in [("diverged", &diverged), ("rejected", &rejected)] {
         let ones: Vec<f64> = flags.iter().map(|&x| f64::from(u8::from(x))).collect();
-        rows.push(exceed_row(
-            name,
-            "fraction",
-            &ones,
-            0.5,
-            Direction::Above,
-            level,
-        ));
+        rows.push(fraction_row(name, &ones));
     }
-
     // Outcomes among the valid instances, with their Clopper–Pearson intervals.
     for name in ["depleted", "pressurant_exhausted"] {
         let ones: Vec<f64> = read_bool(path, name)?
             .iter()
             .map(|&x| f64::from(u8::from(x)))
             .collect();
-        rows.push(exceed_row(
-            name,
-            "fraction",
-            &keep(ones),
-            0.5,
-            Direction::Above,
-            level,
-        ));
+        rows.push(fraction_row(name, &keep(ones)));
     }
 
-    // Tail probabilities of the design margins, computed while their column is loaded.
-    let exceedances = [
-        (
-            "peak_pressure_pa",
-            "prob_exceed",
-            Some(thresholds.meop_pa),
-            Direction::Above,
-        ),
-        (
-            "min_cavitation_margin_m",
-            "prob_below",
-            Some(0.0),
-            Direction::Below,
-        ),
-        (
-            "boiloff_kg",
-            "prob_exceed",
-            thresholds.boiloff_budget_kg,
-            Direction::Above,
-        ),
-    ];
+    let thresholds = thresholds(spec);
+    // QoIs without sensitivities: constant ones and those with no value at all.
+    let mut constant = Vec::new();
     for (name, _) in QOI_F64 {
         let values = keep(read_f64(path, name)?);
-        rows.extend(describe(name, &values).into_iter().map(plain));
-        for (q, statistic, threshold, dir) in exceedances {
-            if let Some(threshold) = threshold.filter(|_| q == name) {
-                rows.push(exceed_row(name, statistic, &values, threshold, dir, level));
-            }
+        let described = distribution_rows(name, &values, &spec.plan);
+        if described.iter().any(|r| {
+            r.stat.statistic == "constant" || (r.stat.statistic == "mean" && r.stat.n == 0)
+        }) {
+            constant.push(name);
+        }
+        rows.extend(described);
+        for t in thresholds.iter().filter(|t| t.quantity == name) {
+            rows.push(threshold_row(t, &values, level));
         }
     }
 
+    // No sensitivities for a QoI whose spread is below rounding (any ranking would be noise) or
+    // that has no value.
+    let analysed: Vec<&str> = SENSITIVITY_QOIS
+        .into_iter()
+        .filter(|q| !constant.contains(q))
+        .collect();
     // One input column in memory at a time: at ten million rows each column is 80 MB and the
     // rank correlation needs several working copies.
     for input in &d.inputs {
         let x = keep(read_f64(path, &input.column)?);
-        for q in SENSITIVITY_QOIS {
+        for &q in &analysed {
             let y = keep(read_f64(path, q)?);
             let n = x
                 .iter()
                 .zip(&y)
                 .filter(|(a, b)| a.is_finite() && b.is_finite())
                 .count() as u64;
+            let rho = spearman(&x, &y);
+            let (lo, hi) = spearman_interval(rho, n, level);
             rows.push(Row {
                 stat: StatRow {
                     quantity: q.into(),
                     statistic: "spearman".into(),
                     threshold: f64::NAN,
-                    value: spearman(&x, &y),
-                    ci_low: f64::NAN,
-                    ci_high: f64::NAN,
+                    value: rho,
+                    ci_low: lo,
+                    ci_high: hi,
                     n,
                 },
                 input: input.column.clone(),
+                probability: f64::NAN,
+                confidence: level,
             });
         }
     }
     if d.design == Design::Saltelli && !d.inputs.is_empty() {
-        for q in SENSITIVITY_QOIS {
-            rows.extend(sobol_rows(q, &keep(read_f64(path, q)?), d, total));
+        for &q in &analysed {
+            rows.extend(sobol_rows(q, &keep(read_f64(path, q)?), spec));
         }
     }
     Ok(rows)
 }
 
-/// Sobol first-order and total indices of `q` from the Saltelli rows (instance order).
-fn sobol_rows(q: &str, y: &[f64], d: &Dispersions, total: u64) -> Vec<Row> {
+/// Sobol first-order and total indices of `q` from the Saltelli rows (instance order), with
+/// bootstrap intervals; `n` is the number of complete groups (every row of the group valid).
+fn sobol_rows(q: &str, y: &[f64], spec: &Spec) -> Vec<Row> {
+    let d = &spec.dispersions;
     let k = d.inputs.len();
-    let bases = (total as usize) / (k + 2);
+    let bases = (spec.total as usize) / (k + 2);
     let mut f_a = vec![f64::NAN; bases];
     let mut f_b = vec![f64::NAN; bases];
     let mut f_ab = vec![vec![f64::NAN; bases]; k];
@@ -195,29 +305,59 @@ fn sobol_rows(q: &str, y: &[f64], d: &Dispersions, total: u64) -> Vec<Row> {
             SaltelliRow::AB(j) => f_ab[j][b] = v,
         }
     }
+    let level = spec.plan.confidence;
+    let analysis = sobol_analysis(
+        &f_a,
+        &f_b,
+        &f_ab,
+        SobolOptions {
+            bootstrap: spec.plan.bootstrap as usize,
+            level,
+            seed: spec.seed,
+        },
+    );
     let mut rows = Vec::new();
-    for (input, fab) in d.inputs.iter().zip(&f_ab) {
-        let s = sobol_indices(&f_a, &f_b, fab);
-        for (stat, value) in [("sobol_first", s.first), ("sobol_total", s.total)] {
+    for (input, s) in d.inputs.iter().zip(&analysis.inputs) {
+        for (stat, value, lo, hi) in [
+            ("sobol_first", s.first, s.first_ci_low, s.first_ci_high),
+            ("sobol_total", s.total, s.total_ci_low, s.total_ci_high),
+        ] {
             rows.push(Row {
                 stat: StatRow {
                     quantity: q.into(),
                     statistic: stat.into(),
                     threshold: f64::NAN,
                     value,
-                    ci_low: f64::NAN,
-                    ci_high: f64::NAN,
-                    n: bases as u64,
+                    ci_low: lo,
+                    ci_high: hi,
+                    n: analysis.n,
                 },
                 input: input.column.clone(),
+                probability: f64::NAN,
+                confidence: level,
             });
         }
     }
     rows
 }
 
-/// Write `rows` to `path` atomically: quantity, statistic, input, threshold, value, ci_low,
-/// ci_high, n.
+/// Complete and total Saltelli groups behind the Sobol rows of `rows` (for the warning when
+/// diverged or rejected instances broke groups).
+pub fn sobol_groups(rows: &[Row], total: u64, k: usize) -> Option<(u64, u64)> {
+    let n = rows
+        .iter()
+        .find(|r| r.stat.statistic == "sobol_first")
+        .map(|r| r.stat.n)?;
+    Some((n, total / (k as u64 + 2)))
+}
+
+/// The smallest sample a (coverage, confidence) tolerance bound needs (its extreme value).
+pub fn tolerance_min_n(coverage: f64, confidence: f64) -> u64 {
+    wilks_min_samples(coverage, confidence, 1)
+}
+
+/// Write `rows` to `path` atomically: quantity, statistic, input, threshold, probability,
+/// confidence, value, ci_low, ci_high, n. Missing values are nulls.
 pub fn write(
     path: &Path,
     rows: &[Row],
@@ -228,6 +368,8 @@ pub fn write(
         ColumnSpec::new("statistic", ColumnKind::Utf8),
         ColumnSpec::optional("input", ColumnKind::Utf8),
         ColumnSpec::new("threshold", ColumnKind::F64),
+        ColumnSpec::new("probability", ColumnKind::F64),
+        ColumnSpec::new("confidence", ColumnKind::F64),
         ColumnSpec::new("value", ColumnKind::F64),
         ColumnSpec::new("ci_low", ColumnKind::F64),
         ColumnSpec::new("ci_high", ColumnKind::F64),
@@ -241,6 +383,7 @@ pub fn write(
         strings(|r| &r.input),
     );
     let (threshold, value) = (floats(|r| r.stat.threshold), floats(|r| r.stat.value));
+    let (probability, confidence) = (floats(|r| r.probability), floats(|r| r.confidence));
     let (lo, hi) = (floats(|r| r.stat.ci_low), floats(|r| r.stat.ci_high));
     let n: Vec<u64> = rows.iter().map(|r| r.stat.n).collect();
     let mut w = TableWriter::create(path, specs, metadata)?;
@@ -249,6 +392,8 @@ pub fn write(
         ColumnData::Utf8(&statistic),
         ColumnData::Utf8(&input),
         ColumnData::F64(&threshold),
+        ColumnData::F64(&probability),
+        ColumnData::F64(&confidence),
         ColumnData::F64(&value),
         ColumnData::F64(&lo),
         ColumnData::F64(&hi),
@@ -259,9 +404,12 @@ pub fn write(
 
 /// Look a statistic up (for the terminal summary and tests).
 pub fn find<'a>(rows: &'a [Row], quantity: &str, statistic: &str) -> Option<&'a StatRow> {
-    rows.iter()
-        .find(|r| {
-            r.stat.quantity == quantity && r.stat.statistic == statistic && r.input.is_empty()
-        })
-        .map(|r| &r.stat)
+    find_row(rows, quantity, statistic).map(|r| &r.stat)
+}
+
+/// Look a row up by quantity and statistic (no input).
+pub fn find_row<'a>(rows: &'a [Row], quantity: &str, statistic: &str) -> Option<&'a Row> {
+    rows.iter().find(|r| {
+        r.stat.quantity == quantity && r.stat.statistic == statistic && r.input.is_empty()
+    })
 }

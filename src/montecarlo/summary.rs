@@ -1,0 +1,270 @@
+//! The terminal summary of a run: counts, the margins with their intervals and tolerance bounds,
+//! tail probabilities, outcomes, and the drivers of each margin with their intervals.
+
+use super::statistics::{find, find_row, tolerance_min_n, Row, SENSITIVITY_QOIS};
+use super::RunReport;
+use crate::campaign::statistics::quantile_name;
+use std::fmt::Write;
+
+/// A value as the summary prints it: `digits` decimals, "–" for a missing one.
+fn num(v: f64, digits: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.digits$}")
+    } else {
+        "–".into()
+    }
+}
+
+/// `X [lo, hi]` of a row (the interval only where it exists).
+fn with_interval(r: &Row, digits: usize) -> String {
+    let s = &r.stat;
+    if s.ci_low.is_finite() || s.ci_high.is_finite() {
+        format!(
+            "{} [{}, {}]",
+            num(s.value, digits),
+            num(s.ci_low, digits),
+            num(s.ci_high, digits)
+        )
+    } else {
+        num(s.value, digits)
+    }
+}
+
+/// The tolerance bounds of `q` on `side` (`tolerance_upper` / `_lower`), or the sample size each
+/// needs when there are too few valid instances.
+fn tolerance(rows: &[Row], q: &str, side: &str, digits: usize) -> String {
+    let statistic = format!("tolerance_{side}");
+    let parts: Vec<String> = rows
+        .iter()
+        .filter(|r| r.stat.quantity == q && r.stat.statistic == statistic)
+        .map(|r| {
+            let level = format!(
+                "{}/{}",
+                num(100.0 * r.probability, 0),
+                num(100.0 * r.confidence, 0)
+            );
+            if r.stat.value.is_finite() {
+                format!("{level} {side} bound {}", num(r.stat.value, digits))
+            } else {
+                format!(
+                    "{level} {side} bound needs ≥ {} valid instances (have {})",
+                    tolerance_min_n(r.probability, r.confidence),
+                    r.stat.n
+                )
+            }
+        })
+        .collect();
+    parts.join("; ")
+}
+
+/// `P = p [lo, hi]` of a probability row with its threshold.
+fn probability(r: &Row) -> String {
+    let s = &r.stat;
+    format!(
+        "P = {:.4} [{:.4}, {:.4}] at {}",
+        s.value, s.ci_low, s.ci_high, s.threshold
+    )
+}
+
+/// The terminal summary: margins, tail probabilities, top drivers.
+pub fn summary_text(r: &RunReport) -> String {
+    let s = &r.statistics;
+    let mut out = format!(
+        "{} instances ({} diverged, {} rejected), {} instance-steps in {:.2} s = {:.3e} instance-steps/s on {}\n",
+        r.instances,
+        r.diverged,
+        r.rejected,
+        r.instance_steps,
+        r.wall_s,
+        r.instance_steps as f64 / r.wall_s.max(1e-9),
+        r.device
+    );
+    if !r.dispersed {
+        out += "note: the campaign has no [dispersions]: every instance is the nominal\n";
+    }
+    if let Some(u) = &r.until {
+        let _ = writeln!(out, "until              {u}");
+    }
+    if !r.rejected_by.is_empty() {
+        let list: Vec<String> = r
+            .rejected_by
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
+        let _ = writeln!(out, "rejected by        {}", list.join(", "));
+    }
+    let valid = find(s, "peak_pressure_pa", "mean").map_or(0, |x| x.n);
+    if valid == 0 {
+        out += "no valid instance: every statistic is null\n";
+        return out;
+    }
+    let stat = |q: &str, st: &str| find(s, q, st).map_or(f64::NAN, |x| x.value);
+    let quantile = |q: &str, p: f64, digits: usize| {
+        let name = quantile_name(p);
+        find_row(s, q, &name).map_or_else(String::new, |row| {
+            format!("{name} {}", with_interval(row, digits))
+        })
+    };
+    let prob = |q: &str, st: &str| find_row(s, q, st).map_or_else(String::new, probability);
+    let _ = writeln!(
+        out,
+        "peak pressure      p50 {} Pa  {} Pa  max {} Pa; above MEOP: {}",
+        num(stat("peak_pressure_pa", "p50"), 0),
+        quantile("peak_pressure_pa", 0.99, 0),
+        num(stat("peak_pressure_pa", "max"), 0),
+        prob("peak_pressure_pa", "prob_exceed")
+    );
+    let tol = tolerance(s, "peak_pressure_pa", "upper", 0);
+    if !tol.is_empty() {
+        let _ = writeln!(out, "                   {tol} (Pa)");
+    }
+    if find(s, "min_cavitation_margin_m", "mean").is_some_and(|x| x.n > 0) {
+        let _ = writeln!(
+            out,
+            "cavitation margin  {} m  p50 {} m  min {} m; below 0: {}",
+            quantile("min_cavitation_margin_m", 0.01, 3),
+            num(stat("min_cavitation_margin_m", "p50"), 3),
+            num(stat("min_cavitation_margin_m", "min"), 3),
+            prob("min_cavitation_margin_m", "prob_below")
+        );
+        let tol = tolerance(s, "min_cavitation_margin_m", "lower", 3);
+        if !tol.is_empty() {
+            let _ = writeln!(out, "                   {tol} (m)");
+        }
+    }
+    let budget = find_row(s, "boiloff_kg", "prob_exceed").map_or_else(String::new, |row| {
+        format!("; over budget: {}", probability(row))
+    });
+    let _ = writeln!(
+        out,
+        "boil-off           p50 {} kg  {} kg{budget}",
+        num(stat("boiloff_kg", "p50"), 4),
+        quantile("boiloff_kg", 0.99, 4),
+    );
+    let _ = writeln!(
+        out,
+        "vented             p50 {} kg  p99 {} kg;  max slosh angle p99 {} rad",
+        num(stat("vented_kg", "p50"), 4),
+        num(stat("vented_kg", "p99"), 4),
+        num(stat("max_slosh_angle_rad", "p99"), 4)
+    );
+    // The campaign's own thresholds (the three above are printed with their margins).
+    let shown = |q: &str| {
+        matches!(
+            q,
+            "peak_pressure_pa" | "min_cavitation_margin_m" | "boiloff_kg"
+        )
+    };
+    for row in s.iter().filter(|x| {
+        matches!(x.stat.statistic.as_str(), "prob_exceed" | "prob_below")
+            && (!shown(&x.stat.quantity)
+                || find_row(s, &x.stat.quantity, &x.stat.statistic)
+                    .is_some_and(|f| !std::ptr::eq(f, *x)))
+    }) {
+        let side = if row.stat.statistic == "prob_exceed" {
+            ">"
+        } else {
+            "<"
+        };
+        let st = &row.stat;
+        let _ = writeln!(
+            out,
+            "P({} {side} {}) = {:.4} [{:.4}, {:.4}] of {}",
+            st.quantity, st.threshold, st.value, st.ci_low, st.ci_high, st.n
+        );
+    }
+    for (name, what) in [
+        ("depleted", "ran dry (depleted)"),
+        ("pressurant_exhausted", "pressurant exhausted"),
+    ] {
+        if let Some(x) = find(s, name, "fraction").filter(|x| x.value > 0.0) {
+            let _ = writeln!(
+                out,
+                "{what:18} P = {:.4} [{:.4}, {:.4}] of {} valid instances",
+                x.value, x.ci_low, x.ci_high, x.n
+            );
+        }
+    }
+    drivers(&mut out, r);
+    out
+}
+
+/// Spearman drivers of each margin with their intervals (or "constant"), then the Sobol indices
+/// under a Saltelli design, warning when diverged or rejected instances broke groups.
+fn drivers(out: &mut String, r: &RunReport) {
+    let s = &r.statistics;
+    let constant: Vec<&str> = SENSITIVITY_QOIS
+        .into_iter()
+        .filter(|q| find(s, q, "constant").is_some())
+        .collect();
+    if !constant.is_empty() {
+        let _ = writeln!(
+            out,
+            "constant across the valid instances (spread below rounding), so no drivers: {}",
+            constant.join(", ")
+        );
+    }
+    for q in SENSITIVITY_QOIS {
+        if constant.contains(&q) {
+            continue;
+        }
+        let mut rho: Vec<&Row> = s
+            .iter()
+            .filter(|x| {
+                x.stat.quantity == q && x.stat.statistic == "spearman" && x.stat.value.is_finite()
+            })
+            .collect();
+        rho.sort_by(|a, b| b.stat.value.abs().total_cmp(&a.stat.value.abs()));
+        if !rho.is_empty() {
+            let top: Vec<String> = rho
+                .iter()
+                .take(3)
+                .map(|d| {
+                    format!(
+                        "{} {:+.2} [{:+.2}, {:+.2}]",
+                        d.input, d.stat.value, d.stat.ci_low, d.stat.ci_high
+                    )
+                })
+                .collect();
+            let _ = writeln!(out, "drivers of {q:24} (Spearman) {}", top.join(", "));
+        }
+        let mut sobol: Vec<&Row> = s
+            .iter()
+            .filter(|x| x.stat.quantity == q && x.stat.statistic == "sobol_total")
+            .collect();
+        if sobol.is_empty() {
+            continue;
+        }
+        sobol.sort_by(|a, b| b.stat.value.total_cmp(&a.stat.value));
+        let groups = sobol[0].stat.n;
+        let top: Vec<String> = sobol
+            .iter()
+            .take(3)
+            .map(|t| {
+                let first = s
+                    .iter()
+                    .find(|x| {
+                        x.stat.quantity == q
+                            && x.stat.statistic == "sobol_first"
+                            && x.input == t.input
+                    })
+                    .map_or_else(String::new, |f| format!("S1 {}", with_interval(f, 2)));
+                format!("{} {first} ST {}", t.input, with_interval(t, 2))
+            })
+            .collect();
+        let _ = writeln!(out, "Sobol of {q:26} ({groups} groups) {}", top.join("; "));
+        let k = s
+            .iter()
+            .filter(|x| x.stat.quantity == q && x.stat.statistic == "sobol_total")
+            .count() as u64;
+        let all = r.instances / (k + 2);
+        if groups < all {
+            let _ = writeln!(
+                out,
+                "warning: the Sobol indices of {q} come from {groups} of {all} groups: {} were \
+                 broken by diverged or rejected instances",
+                all - groups
+            );
+        }
+    }
+}
