@@ -1,5 +1,6 @@
 //! The `cryoslosh` command line: parses arguments, calls the library, maps errors to exit codes
-//! (0 success, 2 bad input, 1 anything else).
+//! (0 success, 2 bad input, 3 a finished run with too many rejected or diverged instances,
+//! 1 anything else).
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
@@ -105,10 +106,26 @@ fn main() -> ExitCode {
                 );
             if bad_input {
                 ExitCode::from(2)
+            } else if e.downcast_ref::<Untrusted>().is_some() {
+                ExitCode::from(3)
             } else {
                 ExitCode::from(1)
             }
         }
+    }
+}
+
+/// The run finished and wrote its outputs, but too many instances were rejected or diverged for
+/// its statistics to be signed (exit code 3).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}: the statistics exclude them; see run.json and statistics.parquet")]
+struct Untrusted(String);
+
+/// Exit 3 when a finished run is not to be trusted.
+fn check_trust(report: &montecarlo::RunReport) -> anyhow::Result<()> {
+    match report.untrusted() {
+        Some(why) => Err(Untrusted(why).into()),
+        None => Ok(()),
     }
 }
 
@@ -214,7 +231,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 "wrote {}/{{instances,statistics}}.parquet and run.json",
                 opts.out_dir.display()
             );
-            Ok(())
+            check_trust(&report)
         }
         Command::Devices => {
             print!("{}", context::describe_adapters(&context::adapters()));
@@ -224,7 +241,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let report = montecarlo::merge(&dirs, &out)?;
             print!("{}", montecarlo::summary_text(&report));
             println!("merged {} shards into {}", dirs.len(), out.display());
-            Ok(())
+            check_trust(&report)
         }
     }
 }

@@ -4,6 +4,7 @@
 mod describe;
 pub mod dispersion;
 mod raw;
+pub mod statistics;
 pub mod steps;
 mod table;
 mod validate;
@@ -50,6 +51,18 @@ pub enum CampaignError {
         input: String,
         message: String,
     },
+}
+
+impl CampaignError {
+    /// The key path the error is about, when it names one.
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            CampaignError::Override { key, .. }
+            | CampaignError::Invalid { key, .. }
+            | CampaignError::Distribution { key, .. } => Some(key),
+            _ => None,
+        }
+    }
 }
 
 /// Default relative tolerance of the adaptive integrator (`campaign.rtol`).
@@ -114,6 +127,8 @@ pub struct Campaign {
     pub initial_slosh_angle_rad: f64,
     /// What varies between instances of `cryoslosh run`.
     pub dispersions: dispersion::Dispersions,
+    /// What `cryoslosh run` reports about them (`[statistics]`).
+    pub statistics: statistics::StatisticsPlan,
     /// The resolved document without `[dispersions]`: each instance applies its sampled values
     /// to it and goes through the same validation as the nominal.
     pub document: toml::Table,
@@ -170,9 +185,36 @@ impl Campaign {
         let mut c = validate::validate(&raw, path, resolved)?;
         steps::check_fixed_step(&c, &raw)?;
         doc.remove("dispersions");
+        doc.remove("statistics");
+        let checker = validate::Checker { file: path };
         if let Some(d) = &raw.dispersions {
-            let checker = validate::Checker { file: path };
             c.dispersions = dispersion::validate(&checker, d, |key| is_numeric_key(&doc, key))?;
+        }
+        c.statistics = statistics::validate(
+            &checker,
+            &raw.statistics.clone().unwrap_or_default(),
+            raw.dispersions.as_ref().and_then(|d| d.confidence),
+        )?;
+        // A --set on a dispersed key would be overwritten by every instance's sample.
+        for o in overrides {
+            let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k.trim());
+            let at = canonical_key(&doc, key);
+            if let Some(j) = c
+                .dispersions
+                .inputs
+                .iter()
+                .position(|input| canonical_key(&doc, &input.key) == at)
+            {
+                return Err(CampaignError::Override {
+                    file,
+                    key: key.to_string(),
+                    message: format!(
+                        "the key is dispersed by dispersions.inputs.{j}: every instance \
+                         overwrites it with its sample; set that entry's parameters instead \
+                         (e.g. --set dispersions.inputs.{j}.mean=…)"
+                    ),
+                });
+            }
         }
         c.document = doc;
         Ok(c)
@@ -200,6 +242,7 @@ impl Campaign {
                 })?;
         let mut c = validate::validate(&raw, &self.path, String::new())?;
         c.dispersions = dispersion::Dispersions::default();
+        c.statistics = self.statistics.clone();
         Ok(c)
     }
 }
@@ -252,7 +295,60 @@ fn apply_override(doc: &mut toml::Table, spec: &str) -> Result<(), (String, Stri
     apply_value(doc, key.trim(), parse_value(value.trim()))
 }
 
-/// Set `a.b.0.c` to `value`: tables by key (created when missing), arrays by index (must exist).
+/// `key` with array entries given by name replaced by their index, so two spellings of one key
+/// compare equal; segments that resolve to nothing are kept as written.
+fn canonical_key(doc: &toml::Table, key: &str) -> String {
+    let mut out = Vec::new();
+    let mut node: Option<&toml::Value> = None;
+    for (n, part) in key.split('.').enumerate() {
+        let next = match node {
+            None if n == 0 => doc.get(part),
+            Some(toml::Value::Table(t)) => t.get(part),
+            Some(toml::Value::Array(a)) => match array_index(a, part) {
+                Ok(i) => {
+                    out.push(i.to_string());
+                    node = a.get(i);
+                    continue;
+                }
+                Err(_) => None,
+            },
+            _ => None,
+        };
+        out.push(part.to_string());
+        node = next;
+    }
+    out.join(".")
+}
+
+/// Position of `part` in an array: a numeric index, or the `name` of exactly one of its tables
+/// (`phases.restart.thrust_n`: inserting a phase does not retarget a named key).
+fn array_index(a: &[toml::Value], part: &str) -> Result<usize, String> {
+    if let Ok(i) = part.parse::<usize>() {
+        return Ok(i);
+    }
+    let name_of = |v: &toml::Value| v.get("name").and_then(toml::Value::as_str).map(str::to_owned);
+    let hits: Vec<usize> = (0..a.len())
+        .filter(|&i| name_of(&a[i]).as_deref() == Some(part))
+        .collect();
+    match hits.as_slice() {
+        [i] => Ok(*i),
+        [] => {
+            let names: Vec<String> = a.iter().filter_map(name_of).collect();
+            Err(if names.is_empty() {
+                format!("no entry is named {part:?} (the entries have no names: use an index)")
+            } else {
+                format!("no entry is named {part:?}; names: {}", names.join(", "))
+            })
+        }
+        many => Err(format!(
+            "{} entries are named {part:?} (indices {many:?}): use an index",
+            many.len()
+        )),
+    }
+}
+
+/// Set `a.b.0.c` (or `a.name.c`, see [`array_index`]) to `value`: tables by key (created when
+/// missing), arrays by index or entry name (must exist).
 /// Unknown keys are caught afterwards by serde's `deny_unknown_fields`.
 fn apply_value(
     doc: &mut toml::Table,
@@ -273,9 +369,7 @@ fn apply_value(
                 .entry(part.to_string())
                 .or_insert_with(|| toml::Value::Table(toml::Table::new())),
             toml::Value::Array(a) => {
-                let i: usize = part
-                    .parse()
-                    .map_err(|_| fail("an array needs a numeric index"))?;
+                let i = array_index(a, part).map_err(|m| fail(&m))?;
                 let len = a.len();
                 a.get_mut(i).ok_or_else(|| {
                     fail(&format!("index {i} out of range (array has {len} entries)"))

@@ -26,6 +26,7 @@ pub struct RawCampaign {
     pub vehicle: RawVehicle,
     pub phases: Vec<RawPhase>,
     pub dispersions: Option<super::dispersion::RawDispersions>,
+    pub statistics: Option<super::statistics::RawStatistics>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize)]
@@ -125,6 +126,8 @@ pub struct RawRelief {
     pub crack_pa: f64,
     pub reseat_pa: f64,
     pub flow_area_m2: f64,
+    /// The crack pressure may lie above MEOP (a deliberate proof-test or off-nominal study).
+    pub crack_above_meop: Option<bool>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]

@@ -393,6 +393,26 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         .as_ref()
         .map(|r| -> Result<_, CampaignError> {
             let crack = c.positive("relief.crack_pa", r.crack_pa, 1.0e8)?;
+            // Cross-field rules: a valve that cracks above MEOP lets the tank pass it (allowed
+            // only when stated); a regulator set above the crack vents its own pressurant.
+            if crack > meop_pa && r.crack_above_meop != Some(true) {
+                return Err(c.err(
+                    "relief.crack_pa",
+                    crack,
+                    format!(
+                        "at most tank.meop_pa = {meop_pa} (or relief.crack_above_meop = true)"
+                    ),
+                ));
+            }
+            if let Some(ps) = &raw.pressurization {
+                if ps.setpoint_pa >= crack {
+                    return Err(c.err(
+                        "pressurization.setpoint_pa",
+                        ps.setpoint_pa,
+                        format!("below relief.crack_pa = {crack}"),
+                    ));
+                }
+            }
             Ok(Relief {
                 crack_pa: crack,
                 reseat_pa: c.range("relief.reseat_pa", r.reseat_pa, 0.0, crack)?,
@@ -502,6 +522,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         seed: run.seed.unwrap_or(0),
         initial_slosh_angle_rad: initial_angle_rad,
         dispersions: super::dispersion::Dispersions::default(),
+        statistics: super::statistics::StatisticsPlan::default(),
         document: toml::Table::new(),
     })
 }

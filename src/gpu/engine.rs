@@ -383,6 +383,7 @@ impl Engine for GpuEngine {
                     inputs: std::mem::take(&mut d.inputs),
                     summary,
                     rejected: false,
+                    rejected_by: None,
                 });
             }
         }

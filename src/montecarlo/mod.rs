@@ -3,6 +3,7 @@
 //! exactly what the unsharded run writes.
 
 pub mod plan;
+pub mod screen;
 pub mod statistics;
 pub mod table;
 
@@ -78,7 +79,50 @@ pub struct RunReport {
     pub design: String,
     /// The integrator and, when adaptive, its tolerances.
     pub integrator: String,
+    /// Rejected instances per key path whose rule rejected them, most first.
+    pub rejected_by: Vec<(String, u64)>,
+    /// Whether the campaign disperses anything (a run of identical instances says so).
+    pub dispersed: bool,
+    /// The shares above which the run is not trusted (exit code 3).
+    pub max_rejected_fraction: f64,
+    pub max_diverged_fraction: f64,
     pub statistics: Vec<Row>,
+}
+
+impl RunReport {
+    /// Why the run's statistics cannot be signed (too many rejected or diverged instances), or
+    /// `None`. The outputs are written either way; the command exits with code 3.
+    pub fn untrusted(&self) -> Option<String> {
+        let n = self.instances.max(1) as f64;
+        let mut why = Vec::new();
+        let (rej, div) = (self.rejected as f64 / n, self.diverged as f64 / n);
+        if rej > self.max_rejected_fraction {
+            why.push(format!(
+                "{} of {} instances rejected ({:.2} % > statistics.max_rejected_fraction {} %)",
+                self.rejected,
+                self.instances,
+                100.0 * rej,
+                100.0 * self.max_rejected_fraction
+            ));
+        }
+        if div > self.max_diverged_fraction {
+            why.push(format!(
+                "{} of {} instances diverged ({:.2} % > statistics.max_diverged_fraction {} %)",
+                self.diverged,
+                self.instances,
+                100.0 * div,
+                100.0 * self.max_diverged_fraction
+            ));
+        }
+        (!why.is_empty()).then(|| why.join("; "))
+    }
+}
+
+/// Count rejections per key path, most first (ties by name).
+fn tally(counts: std::collections::BTreeMap<String, u64>) -> Vec<(String, u64)> {
+    let mut v: Vec<(String, u64)> = counts.into_iter().collect();
+    v.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+    v
 }
 
 /// The integrator as `run.json` and the Parquet metadata record it: `rk4`, or `dopri5` with
@@ -197,6 +241,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let bar = progress_bar(o.progress, range.end - range.start);
     let start = std::time::Instant::now();
     let (mut steps, mut diverged, mut rejected) = (0u64, 0u64, 0u64);
+    let mut rejected_by = std::collections::BTreeMap::<String, u64>::new();
     // Double buffering: a writer thread encodes chunk k to Parquet while the engine integrates
     // chunk k + 1 (one chunk in flight bounds memory at two chunks).
     // `None` marks the end: only then is the file renamed into place.
@@ -230,6 +275,9 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
                 steps += r.summary.steps;
                 diverged += u64::from(r.summary.diverged);
                 rejected += u64::from(r.rejected);
+                if let Some(key) = &r.rejected_by {
+                    *rejected_by.entry(key.clone()).or_default() += 1;
+                }
             }
             if tx.send(Some(block)).is_err() {
                 break; // the writer failed; its error is reported below
@@ -273,6 +321,10 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         shard: o.shard.to_string(),
         design: c.dispersions.design.name().into(),
         integrator: integrator_text(c),
+        rejected_by: tally(rejected_by),
+        dispersed: !c.dispersions.inputs.is_empty(),
+        max_rejected_fraction: c.statistics.max_rejected_fraction,
+        max_diverged_fraction: c.statistics.max_diverged_fraction,
         statistics: rows,
     };
     write_run_json(&o.out_dir, &report, o.instances)?;
@@ -326,6 +378,8 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "shard": r.shard,
         "design": r.design,
         "integrator": r.integrator,
+        "rejected_by": r.rejected_by.iter().map(|(k, n)| (k.clone(), serde_json::json!(n))).collect::<serde_json::Map<_, _>>(),
+        "untrusted": r.untrusted(),
         "version": crate::VERSION,
     });
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
@@ -454,6 +508,19 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
         shard: Shard::ALL.to_string(),
         design: c.dispersions.design.name().into(),
         integrator: integrator_text(&c),
+        rejected_by: tally(
+            shards
+                .iter()
+                .filter_map(|s| s.run["rejected_by"].as_object())
+                .flat_map(|m| m.iter())
+                .fold(std::collections::BTreeMap::new(), |mut acc, (k, v)| {
+                    *acc.entry(k.clone()).or_default() += v.as_u64().unwrap_or(0);
+                    acc
+                }),
+        ),
+        dispersed: !c.dispersions.inputs.is_empty(),
+        max_rejected_fraction: c.statistics.max_rejected_fraction,
+        max_diverged_fraction: c.statistics.max_diverged_fraction,
         statistics: stats,
     };
     write_run_json(out, &report, total)?;
@@ -474,6 +541,17 @@ pub fn summary_text(r: &RunReport) -> String {
         r.instance_steps as f64 / r.wall_s.max(1e-9),
         r.device
     );
+    if !r.dispersed {
+        out += "note: the campaign has no [dispersions]: every instance is the nominal\n";
+    }
+    if !r.rejected_by.is_empty() {
+        let list: Vec<String> = r
+            .rejected_by
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
+        out += &format!("rejected by        {}\n", list.join(", "));
+    }
     let stat = |q: &str, st: &str| find(s, q, st).map(|x| x.value).unwrap_or(f64::NAN);
     let prob = |q: &str, st: &str| {
         find(s, q, st).map_or_else(String::new, |x| {

@@ -25,6 +25,8 @@ pub struct InstanceRecord {
     pub summary: Summary,
     /// The sample left a field's allowed range: not integrated, excluded from statistics.
     pub rejected: bool,
+    /// The key path whose rule rejected the sample (rejected records only).
+    pub rejected_by: Option<String>,
 }
 
 /// Sampled input values of instance `i` (inverse CDF of the design's unit samples, with the
@@ -73,11 +75,13 @@ impl Plan<'_> {
                     inputs,
                     summary: simulate(ci, &ci.params, None),
                     rejected: false,
+                    rejected_by: None,
                 }
             }
             Err(e) => InstanceRecord {
                 instance: i,
                 inputs,
+                rejected_by: Some(e.key().unwrap_or("(campaign)").to_string()),
                 summary: Summary {
                     diverged_reason: Some(e.to_string()),
                     ..Summary::default()
@@ -129,6 +133,7 @@ impl Plan<'_> {
                     inputs,
                     summary: summaries.next().unwrap_or_default(),
                     rejected: false,
+                    rejected_by: None,
                 },
                 Err(_) => self.record(i, inputs, r),
             })

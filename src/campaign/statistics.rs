@@ -1,0 +1,327 @@
+//! The `[statistics]` section: which quantiles, tolerance bounds and threshold probabilities a
+//! campaign reports, how many bootstrap resamples its intervals use, how many rejected or diverged
+//! instances it tolerates, and the precision target of `run --until`.
+
+use super::validate::Checker;
+use super::CampaignError;
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawStatistics {
+    pub confidence: Option<f64>,
+    pub quantiles: Option<Vec<f64>>,
+    pub tolerance: Option<Vec<String>>,
+    pub bootstrap: Option<u64>,
+    pub max_rejected_fraction: Option<f64>,
+    pub max_diverged_fraction: Option<f64>,
+    #[serde(default)]
+    pub thresholds: Vec<RawThreshold>,
+    pub target: Option<RawTarget>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawThreshold {
+    pub quantity: String,
+    pub above: Option<f64>,
+    pub below: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTarget {
+    pub quantity: String,
+    pub above: Option<f64>,
+    pub below: Option<f64>,
+    pub quantile: Option<f64>,
+    pub half_width: f64,
+    pub max_instances: Option<u64>,
+    pub check_every: Option<u64>,
+}
+
+/// Side of a threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Above,
+    Below,
+}
+
+impl Side {
+    /// Campaign spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Above => "above",
+            Side::Below => "below",
+        }
+    }
+}
+
+/// A probability the campaign reports: P(quantity above/below value), with its Clopper–Pearson
+/// interval.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Threshold {
+    /// Its key path in the campaign (`statistics.thresholds.0`), for messages.
+    pub key: String,
+    pub quantity: String,
+    pub side: Side,
+    pub value: f64,
+}
+
+/// The estimate whose confidence interval `run --until` narrows.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TargetEstimate {
+    /// P(quantity above/below value).
+    Probability(Threshold),
+    /// The p-quantile of a quantity (its order-statistic interval).
+    Quantile { quantity: String, p: f64 },
+}
+
+/// `run --until`: integrate blocks of `check_every` instances until the estimate's interval
+/// half-width is at most `half_width`, or `max_instances` are done.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Target {
+    pub estimate: TargetEstimate,
+    /// Largest acceptable half-width of the interval (probability, or the QoI's unit).
+    pub half_width: f64,
+    /// Cap on the instances integrated (default: `campaign.instances`).
+    pub max_instances: Option<u64>,
+    /// Instances between checks (the stopping point depends only on instance order).
+    pub check_every: u64,
+}
+
+/// The validated `[statistics]` section.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StatisticsPlan {
+    /// Confidence level of every two-sided interval (Clopper–Pearson, quantile order statistics,
+    /// Spearman, Sobol bootstrap).
+    pub confidence: f64,
+    /// Quantile levels reported for every QoI, each with its distribution-free interval.
+    pub quantiles: Vec<f64>,
+    /// One-sided (Wilks) tolerance bounds as (coverage, confidence), e.g. (0.95, 0.95).
+    pub tolerance: Vec<(f64, f64)>,
+    /// Bootstrap resamples of the Sobol intervals.
+    pub bootstrap: u64,
+    /// Share of rejected instances above which `run` exits with code 3.
+    pub max_rejected_fraction: f64,
+    /// Share of diverged instances above which `run` exits with code 3.
+    pub max_diverged_fraction: f64,
+    /// User thresholds (the MEOP, boil-off budget and cavitation rows are always reported).
+    pub thresholds: Vec<Threshold>,
+    pub target: Option<Target>,
+}
+
+/// Quantile levels reported by default: the median and the 1/5/95/99 % tails.
+pub const DEFAULT_QUANTILES: [f64; 5] = [0.01, 0.05, 0.5, 0.95, 0.99];
+/// Tolerance bounds reported by default: 95/95 and 99/90 (coverage/confidence).
+pub const DEFAULT_TOLERANCE: [(f64, f64); 2] = [(0.95, 0.95), (0.99, 0.90)];
+
+impl Default for StatisticsPlan {
+    fn default() -> Self {
+        StatisticsPlan {
+            confidence: 0.95,
+            quantiles: DEFAULT_QUANTILES.to_vec(),
+            tolerance: DEFAULT_TOLERANCE.to_vec(),
+            bootstrap: 1000,
+            max_rejected_fraction: 0.01,
+            max_diverged_fraction: 0.01,
+            thresholds: Vec::new(),
+            target: None,
+        }
+    }
+}
+
+/// Statistic name of the p-quantile: `p99`, `p05`, `p50`, `p99.9`, `p0.1`.
+pub fn quantile_name(p: f64) -> String {
+    let pct = p * 100.0;
+    let rounded = pct.round();
+    if (pct - rounded).abs() < 1e-9 {
+        format!("p{:02}", rounded as u64)
+    } else {
+        let s = format!("{pct:.6}");
+        format!("p{}", s.trim_end_matches('0'))
+    }
+}
+
+/// Parse `"95/95"` (coverage/confidence in percent).
+fn parse_tolerance(s: &str) -> Option<(f64, f64)> {
+    let (a, b) = s.split_once('/')?;
+    let (a, b): (f64, f64) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
+    let ok = |x: f64| x > 0.0 && x < 100.0;
+    (ok(a) && ok(b)).then_some((a / 100.0, b / 100.0))
+}
+
+/// One side and value of a threshold entry.
+fn side(c: &Checker, key: &str, above: Option<f64>, below: Option<f64>) -> Result<(Side, f64), CampaignError> {
+    match (above, below) {
+        (Some(v), None) if v.is_finite() => Ok((Side::Above, v)),
+        (None, Some(v)) if v.is_finite() => Ok((Side::Below, v)),
+        (Some(v), None) => Err(c.table_err(&format!("{key}.above"), v, "a finite number")),
+        (None, Some(v)) => Err(c.table_err(&format!("{key}.below"), v, "a finite number")),
+        _ => Err(c.table_err(key, "(above and below)", "exactly one of above = X or below = X")),
+    }
+}
+
+/// Validate the raw section; `fallback_confidence` is `dispersions.confidence`. Quantity names
+/// are checked against the instances schema by `montecarlo::check_statistics` (the campaign
+/// module does not know the QoI columns).
+pub(super) fn validate(
+    c: &Checker,
+    raw: &RawStatistics,
+    fallback_confidence: Option<f64>,
+) -> Result<StatisticsPlan, CampaignError> {
+    let d = StatisticsPlan::default();
+    let confidence = raw.confidence.or(fallback_confidence).unwrap_or(d.confidence);
+    if !(confidence > 0.5 && confidence < 1.0) {
+        return Err(c.table_err("statistics.confidence", confidence, "a number in (0.5, 1)"));
+    }
+    let quantiles = match &raw.quantiles {
+        None => d.quantiles,
+        Some(q) => {
+            for (i, &p) in q.iter().enumerate() {
+                if !(p > 0.0 && p < 1.0) {
+                    return Err(c.table_err(
+                        &format!("statistics.quantiles.{i}"),
+                        p,
+                        "a probability in (0, 1), e.g. 0.99",
+                    ));
+                }
+            }
+            let mut q = q.clone();
+            q.sort_by(f64::total_cmp);
+            q.dedup();
+            q
+        }
+    };
+    let tolerance = match &raw.tolerance {
+        None => d.tolerance,
+        Some(t) => t
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                parse_tolerance(s).ok_or_else(|| {
+                    c.table_err(
+                        &format!("statistics.tolerance.{i}"),
+                        format!("{s:?}"),
+                        "\"coverage/confidence\" in percent, e.g. \"95/95\" or \"99/90\"",
+                    )
+                })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let bootstrap = raw.bootstrap.unwrap_or(d.bootstrap);
+    if !(100..=100_000).contains(&bootstrap) {
+        return Err(c.table_err("statistics.bootstrap", bootstrap, "an integer in [100, 100000]"));
+    }
+    let fraction = |key: &str, v: Option<f64>, default: f64| -> Result<f64, CampaignError> {
+        let v = v.unwrap_or(default);
+        if (0.0..=1.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(c.table_err(key, v, "a fraction in [0, 1]"))
+        }
+    };
+    let max_rejected_fraction = fraction(
+        "statistics.max_rejected_fraction",
+        raw.max_rejected_fraction,
+        d.max_rejected_fraction,
+    )?;
+    let max_diverged_fraction = fraction(
+        "statistics.max_diverged_fraction",
+        raw.max_diverged_fraction,
+        d.max_diverged_fraction,
+    )?;
+    let mut thresholds = Vec::new();
+    for (i, t) in raw.thresholds.iter().enumerate() {
+        let key = format!("statistics.thresholds.{i}");
+        let (side, value) = side(c, &key, t.above, t.below)?;
+        thresholds.push(Threshold {
+            key,
+            quantity: t.quantity.clone(),
+            side,
+            value,
+        });
+    }
+    let target = match &raw.target {
+        None => None,
+        Some(t) => {
+            let q = t.quantity.clone();
+            let estimate = match (t.quantile, t.above, t.below) {
+                (Some(p), None, None) if p > 0.0 && p < 1.0 => {
+                    TargetEstimate::Quantile { quantity: q, p }
+                }
+                (Some(p), None, None) => {
+                    return Err(c.table_err("statistics.target.quantile", p, "a probability in (0, 1)"))
+                }
+                (None, above, below) => {
+                    let (side, value) = side(c, "statistics.target", above, below)?;
+                    TargetEstimate::Probability(Threshold {
+                        key: "statistics.target".into(),
+                        quantity: q,
+                        side,
+                        value,
+                    })
+                }
+                _ => {
+                    return Err(c.table_err(
+                        "statistics.target",
+                        "(quantile with above/below)",
+                        "either quantile = p or one of above = X / below = X",
+                    ))
+                }
+            };
+            if !(t.half_width.is_finite() && t.half_width > 0.0) {
+                return Err(c.table_err(
+                    "statistics.target.half_width",
+                    t.half_width,
+                    "a finite number > 0",
+                ));
+            }
+            if t.max_instances == Some(0) {
+                return Err(c.table_err("statistics.target.max_instances", 0, "at least 1"));
+            }
+            let check_every = t.check_every.unwrap_or(100);
+            if check_every == 0 {
+                return Err(c.table_err("statistics.target.check_every", 0, "at least 1"));
+            }
+            Some(Target {
+                estimate,
+                half_width: t.half_width,
+                max_instances: t.max_instances,
+                check_every,
+            })
+        }
+    };
+    Ok(StatisticsPlan {
+        confidence,
+        quantiles,
+        tolerance,
+        bootstrap,
+        max_rejected_fraction,
+        max_diverged_fraction,
+        thresholds,
+        target,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantile_names() {
+        assert_eq!(quantile_name(0.99), "p99");
+        assert_eq!(quantile_name(0.05), "p05");
+        assert_eq!(quantile_name(0.5), "p50");
+        assert_eq!(quantile_name(0.999), "p99.9");
+        assert_eq!(quantile_name(0.001), "p0.1");
+    }
+
+    #[test]
+    fn tolerance_spelling() {
+        assert_eq!(parse_tolerance("95/95"), Some((0.95, 0.95)));
+        assert_eq!(parse_tolerance(" 99 / 90 "), Some((0.99, 0.9)));
+        assert_eq!(parse_tolerance("95"), None);
+        assert_eq!(parse_tolerance("100/95"), None);
+    }
+}
