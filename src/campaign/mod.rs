@@ -10,6 +10,7 @@ mod table;
 mod validate;
 
 pub use describe::describe;
+pub use describe::number;
 pub use raw::RawCampaign;
 pub use validate::{DEFAULT_LAYER_M, DEFAULT_WALL_HEAT_TO_LAYER};
 
