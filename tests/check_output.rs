@@ -1,9 +1,10 @@
-//! `cryoslosh check` prints values as a person reads them (no Rust `Debug`), and `number` rounds
-//! as documented.
+//! `cryoslosh check` prints values as a person reads them (no Rust `Debug`), `number` rounds as
+//! documented, and `cryoslosh init` writes a template campaign that loads, checks and runs.
 
 mod common;
 use common::{campaign_path, CAMPAIGNS};
-use cryoslosh::campaign::number;
+use cryoslosh::campaign::template::TEMPLATE;
+use cryoslosh::campaign::{number, Campaign};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -71,10 +72,10 @@ fn check_is_readable(path: &Path) -> String {
     out
 }
 
-/// (a) Every shipped campaign checks cleanly and reads as values.
+/// (a) Every shipped campaign, the template included, checks cleanly and reads as values.
 #[test]
 fn check_prints_no_debug_on_shipped_campaigns() {
-    for name in CAMPAIGNS {
+    for name in CAMPAIGNS.iter().copied().chain(["template"]) {
         let out = check_is_readable(&campaign_path(name));
         // Sections under the campaign's key names, values with units.
         for needle in [
@@ -189,4 +190,106 @@ fn number_rounds_as_documented() {
     for (v, want) in cases {
         assert_eq!(number(v), want, "number({v:e})");
     }
+}
+
+/// (c) `init` writes a template that loads; a second `init` refuses without `--force`.
+#[test]
+fn init_writes_a_template_and_refuses_to_overwrite() {
+    let dir = temp_dir("init");
+    let path = dir.join("campaign.toml");
+    let p = path.to_str().unwrap();
+    let o = cryoslosh(&["init", p]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(out.contains(p), "does not say where: {out}");
+    assert!(
+        out.contains(&format!("cryoslosh check {p}"))
+            && out.contains(&format!("cryoslosh run {p}")),
+        "no next commands: {out}"
+    );
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), TEMPLATE);
+    let c = Campaign::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(c.dispersions.inputs.len(), 3);
+    assert!(c.params.pressurization.is_some() && c.params.relief.is_some());
+
+    // An existing file is kept as it is.
+    std::fs::write(&path, "# my edits\n").unwrap();
+    let o = cryoslosh(&["init", p]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains(p), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("--force"), "{}", text(&o.stderr));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "# my edits\n");
+
+    let o = cryoslosh(&["init", p, "--force"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), TEMPLATE);
+
+    // Without a path: campaign.toml in the current directory.
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .arg("init")
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    std::fs::remove_file(&path).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .arg("init")
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), TEMPLATE);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The shipped template is the embedded one, and every key it sets carries a comment.
+#[test]
+fn template_is_the_shipped_file_and_commented() {
+    let shipped = std::fs::read_to_string(campaign_path("template")).unwrap();
+    assert_eq!(shipped, TEMPLATE);
+    for line in TEMPLATE.lines() {
+        let t = line.trim();
+        let is_key = !t.starts_with('#') && !t.starts_with('[') && t.contains(" = ");
+        // Dispersion entries are documented once, above them.
+        let in_list = [
+            "key",
+            "distribution",
+            "mean",
+            "std",
+            "lo",
+            "hi",
+            "median",
+            "sigma",
+        ]
+        .iter()
+        .any(|k| t.starts_with(&format!("{k} = ")));
+        if is_key && !in_list && !t.starts_with("name = ") {
+            assert!(t.contains('#'), "uncommented key: {line}");
+        }
+    }
+}
+
+/// (d) The template's dispersions resolve: a small run on the CPU succeeds.
+#[test]
+fn template_runs_a_small_campaign() {
+    let dir = temp_dir("template-run");
+    let out = dir.join("run");
+    let o = cryoslosh(&[
+        "run",
+        campaign_path("template").to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--instances",
+        "8",
+        "--backend",
+        "cpu",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let summary = text(&o.stdout);
+    assert!(
+        summary.contains("8 instances (0 diverged, 0 rejected)"),
+        "{summary}"
+    );
+    assert!(out.join("instances.parquet").exists());
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -7,6 +7,7 @@ mod raw;
 pub mod statistics;
 pub mod steps;
 mod table;
+pub mod template;
 mod validate;
 
 pub use describe::describe;
