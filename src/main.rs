@@ -98,6 +98,15 @@ enum Command {
         #[arg(long, value_name = "SPEC")]
         until: Option<String>,
     },
+    /// Write a commented template campaign to start from (refuses to overwrite without --force).
+    Init {
+        /// Where to write it.
+        #[arg(default_value = "campaign.toml")]
+        path: PathBuf,
+        /// Overwrite an existing file.
+        #[arg(long)]
+        force: bool,
+    },
     /// List the GPU adapters the WGSL backend can use (name, backend, type, limits).
     Devices,
     /// Join shard directories of one campaign into DIR, equal to the unsharded run.
@@ -328,6 +337,27 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 }
             );
             check_trust(&report)
+        }
+        Command::Init { path, force } => {
+            match cryoslosh::campaign::template::write_template(&path, force) {
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(BadInput(format!(
+                    "{}: the file exists; pass --force to overwrite it",
+                    path.display()
+                ))
+                .into()),
+                Err(e) => Err(anyhow::Error::new(e).context(format!("writing {}", path.display()))),
+                Ok(()) => {
+                    let p = path.display();
+                    let stem = path
+                        .file_stem()
+                        .map_or_else(|| "campaign".into(), |s| s.to_string_lossy().into_owned());
+                    println!("wrote the template campaign {p} (a small LN2 tank: pad hold, burn with a gust, three dispersions)");
+                    println!("next: edit it, then");
+                    println!("  cryoslosh check {p}");
+                    println!("  cryoslosh run {p} --out {stem}-run --instances 100");
+                    Ok(())
+                }
+            }
         }
         Command::Devices => {
             print!("{}", context::describe_adapters(&context::adapters()));

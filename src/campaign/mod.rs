@@ -7,9 +7,11 @@ mod raw;
 pub mod statistics;
 pub mod steps;
 mod table;
+pub mod template;
 mod validate;
 
 pub use describe::describe;
+pub use describe::number;
 pub use raw::RawCampaign;
 pub use validate::{DEFAULT_LAYER_M, DEFAULT_WALL_HEAT_TO_LAYER};
 

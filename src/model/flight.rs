@@ -155,6 +155,77 @@ impl Excitation {
     }
 }
 
+/// The campaign's spelling: the excitation `kind` with its keys, e.g.
+/// `gust(amplitude_m_s2 0.3, start_s 60, duration_s 4)`; a table is summarised by its rows and
+/// time span (`check` adds the file name).
+impl std::fmt::Display for Excitation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::campaign::number as n;
+        match self {
+            Excitation::None => write!(f, "none"),
+            Excitation::Step { amplitude, start_s } => write!(
+                f,
+                "step(amplitude_m_s2 {}, start_s {})",
+                n(*amplitude),
+                n(*start_s)
+            ),
+            Excitation::Ramp {
+                amplitude,
+                start_s,
+                duration_s,
+            } => write!(
+                f,
+                "ramp(amplitude_m_s2 {}, start_s {}, duration_s {})",
+                n(*amplitude),
+                n(*start_s),
+                n(*duration_s)
+            ),
+            Excitation::Sine {
+                amplitude,
+                frequency_hz,
+                phase_rad,
+            } => write!(
+                f,
+                "sine(amplitude_m_s2 {}, frequency_hz {}, phase_rad {})",
+                n(*amplitude),
+                n(*frequency_hz),
+                n(*phase_rad)
+            ),
+            Excitation::Sweep {
+                amplitude,
+                f_start_hz,
+                f_end_hz,
+                duration_s,
+            } => write!(
+                f,
+                "sweep(amplitude_m_s2 {}, f_start_hz {}, f_end_hz {}, duration_s {})",
+                n(*amplitude),
+                n(*f_start_hz),
+                n(*f_end_hz),
+                n(*duration_s)
+            ),
+            Excitation::Gust {
+                amplitude,
+                start_s,
+                duration_s,
+            } => write!(
+                f,
+                "gust(amplitude_m_s2 {}, start_s {}, duration_s {})",
+                n(*amplitude),
+                n(*start_s),
+                n(*duration_s)
+            ),
+            Excitation::Table { time_s, .. } => write!(
+                f,
+                "table({} rows, {}–{} s)",
+                time_s.len(),
+                n(time_s.first().copied().unwrap_or(f64::NAN)),
+                n(time_s.last().copied().unwrap_or(f64::NAN))
+            ),
+        }
+    }
+}
+
 /// Piecewise-linear interpolation on ascending `xs`, constant beyond the ends.
 fn interp(xs: &[f64], ys: &[f64], x: f64) -> f64 {
     let n = xs.len();

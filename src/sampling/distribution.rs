@@ -359,6 +359,46 @@ impl Distribution {
     }
 }
 
+/// The campaign's spelling: the `distribution` kind with its parameters under their key names,
+/// e.g. `truncated_normal(mean 150, std 25, lo 80, hi 250)`, `lognormal(median 0.3, sigma 0.4)`,
+/// `choice(2, 3, 4; weights 1, 2, 1)` (numbers as [`crate::campaign::number`] writes them).
+impl std::fmt::Display for Distribution {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::campaign::number as n;
+        let list = |v: &[f64]| v.iter().map(|&x| n(x)).collect::<Vec<_>>().join(", ");
+        match self {
+            Distribution::Normal { mean, std } => {
+                write!(f, "normal(mean {}, std {})", n(*mean), n(*std))
+            }
+            Distribution::TruncatedNormal { mean, std, lo, hi } => write!(
+                f,
+                "truncated_normal(mean {}, std {}, lo {}, hi {})",
+                n(*mean),
+                n(*std),
+                n(*lo),
+                n(*hi)
+            ),
+            Distribution::Uniform { lo, hi } => write!(f, "uniform(lo {}, hi {})", n(*lo), n(*hi)),
+            Distribution::LogNormal { median, sigma } => {
+                write!(f, "lognormal(median {}, sigma {})", n(*median), n(*sigma))
+            }
+            Distribution::Triangular { lo, mode, hi } => write!(
+                f,
+                "triangular(lo {}, mode {}, hi {})",
+                n(*lo),
+                n(*mode),
+                n(*hi)
+            ),
+            Distribution::Choice { values, weights } if weights.is_empty() => {
+                write!(f, "choice({})", list(values))
+            }
+            Distribution::Choice { values, weights } => {
+                write!(f, "choice({}; weights {})", list(values), list(weights))
+            }
+        }
+    }
+}
+
 /// Gaussian copula for a correlated pair: given two independent unit samples `(u1, u2)` and a
 /// correlation `rho ∈ (−1, 1)`, returns `(u1, u2')` with `corr(Φ⁻¹(u1), Φ⁻¹(u2')) = rho`.
 ///
