@@ -191,6 +191,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let c = Campaign::load(&campaign, &set)?;
             montecarlo::check_statistics(&c)?;
             print!("{}", cryoslosh::campaign::describe(&c));
+            print!(
+                "{}",
+                cryoslosh::campaign::statistics::describe(&c.statistics)
+            );
             print!("{}", simulate::plan::describe_step_plan(&c));
             let screen = montecarlo::screen::screen(&c, c.seed, c.instances);
             print!(

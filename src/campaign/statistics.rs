@@ -324,6 +324,57 @@ pub(super) fn validate(
     })
 }
 
+/// The section as `check` prints it.
+pub fn describe(p: &StatisticsPlan) -> String {
+    use super::number;
+    let list = |v: &[f64]| v.iter().map(|x| number(*x)).collect::<Vec<_>>().join(", ");
+    let tol: Vec<String> = p
+        .tolerance
+        .iter()
+        .map(|(c, b)| format!("{}/{}", number(100.0 * c), number(100.0 * b)))
+        .collect();
+    let mut o = format!(
+        "statistics: confidence {}, quantiles {}, tolerance {}, bootstrap {}, \
+         max_rejected_fraction {}, max_diverged_fraction {}\n",
+        number(p.confidence),
+        list(&p.quantiles),
+        tol.join(", "),
+        p.bootstrap,
+        number(p.max_rejected_fraction),
+        number(p.max_diverged_fraction)
+    );
+    for t in &p.thresholds {
+        o += &format!(
+            "  {}: P({} {} {})\n",
+            t.key,
+            t.quantity,
+            if t.side == Side::Above { ">" } else { "<" },
+            number(t.value)
+        );
+    }
+    if let Some(t) = &p.target {
+        let what = match &t.estimate {
+            TargetEstimate::Probability(th) => format!(
+                "P({} {} {})",
+                th.quantity,
+                if th.side == Side::Above { ">" } else { "<" },
+                number(th.value)
+            ),
+            TargetEstimate::Quantile { quantity, p } => {
+                format!("{} of {quantity}", quantile_name(*p))
+            }
+        };
+        o += &format!(
+            "  target: {what} to ±{}, checked every {} instances{}\n",
+            number(t.half_width),
+            t.check_every,
+            t.max_instances
+                .map_or_else(String::new, |m| format!(", at most {m}"))
+        );
+    }
+    o
+}
+
 /// Parse `run --until`: `QOI>X:H` or `QOI<X:H` (the probability of being above/below X, to a
 /// half-width H), or `QOI@pNN:H` (the NN % quantile to ±H in the QoI's unit); checked every 100
 /// instances. Quantity names are checked by the run.

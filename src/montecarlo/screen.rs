@@ -108,7 +108,7 @@ pub fn describe(s: &Screen, max_rejected_fraction: f64) -> String {
             o,
             "warning: {key} at its {} quantile ({}) is rejected: {why}",
             crate::campaign::statistics::quantile_name(*u),
-            v
+            crate::campaign::number(*v)
         );
     }
     let rejected = s.rejected();

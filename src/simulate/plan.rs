@@ -2,6 +2,7 @@
 //! steps per period, then the cost of the nominal instance measured by integrating it.
 
 use super::{adaptive::ADAPTIVE_STEPS_PER_PERIOD, simulate};
+use crate::campaign::number;
 use crate::campaign::steps::{plan, MIN_STEPS_PER_PERIOD};
 use crate::campaign::{Campaign, Integrator};
 use std::fmt::Write;
@@ -27,7 +28,7 @@ pub fn describe_step_plan(c: &Campaign) -> String {
     let per = |period: Option<f64>, dt: f64| {
         period.map_or_else(
             || "-".to_string(),
-            |p| format!("{p:.4} s ({:.1} steps)", p / dt),
+            |p| format!("{} s ({:.1} steps)", number(p), p / dt),
         )
     };
     for (ph, pp) in c.phases.iter().zip(plan(c)) {
@@ -45,7 +46,7 @@ pub fn describe_step_plan(c: &Campaign) -> String {
             }
         };
         let step = if dt.is_finite() {
-            format!("{dt:.6} s")
+            format!("{} s", number(dt))
         } else {
             "unbounded".to_string()
         };
