@@ -167,6 +167,14 @@ pub fn summary_text(r: &RunReport) -> String {
             "<"
         };
         let st = &row.stat;
+        if st.n == 0 {
+            let _ = writeln!(
+                out,
+                "P({} {side} {}): no valid instance has a value of {}",
+                st.quantity, st.threshold, st.quantity
+            );
+            continue;
+        }
         let _ = writeln!(
             out,
             "P({} {side} {}) = {:.4} [{:.4}, {:.4}] of {}",
