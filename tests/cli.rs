@@ -98,7 +98,7 @@ fn check_prints_the_step_plan() {
         let out = String::from_utf8_lossy(&o.stdout);
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
         assert!(out.contains("step plan:"), "{out}");
-        assert!(out.contains("excitation period 0.8333 s"), "{out}");
+        assert!(out.contains("excitation period 0.833333 s"), "{out}");
         assert!(out.contains("right-hand-side evaluations"), "{out}");
     }
 }
