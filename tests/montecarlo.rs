@@ -154,16 +154,7 @@ fn saltelli_design_yields_sobol_indices() {
 fn python_readers_agree_with_statistics() {
     // pyarrow, polars and DuckDB read both files; DuckDB's quantile_cont over non-diverged rows
     // equals the p99 in statistics.parquet. CI installs them (CRYOSLOSH_REQUIRE_PYTHON=1).
-    let have = Command::new("python3")
-        .args(["-c", "import pyarrow, polars, duckdb"])
-        .status()
-        .is_ok_and(|s| s.success());
-    if !have {
-        assert!(
-            std::env::var_os("CRYOSLOSH_REQUIRE_PYTHON").is_none(),
-            "python3 with pyarrow, polars, duckdb is required"
-        );
-        eprintln!("skipped: python3 with pyarrow, polars and duckdb not available");
+    if !common::python_with("pyarrow, polars, duckdb") {
         return;
     }
     let c = short_mhtb(&[]);

@@ -9,16 +9,7 @@ use std::process::Command;
 
 #[test]
 fn rejected_instances_are_nulls_and_readers_agree() {
-    let have = Command::new("python3")
-        .args(["-c", "import pyarrow, polars, duckdb, pandas"])
-        .status()
-        .is_ok_and(|s| s.success());
-    if !have {
-        assert!(
-            std::env::var_os("CRYOSLOSH_REQUIRE_PYTHON").is_none(),
-            "python3 with pyarrow, polars, duckdb and pandas is required"
-        );
-        eprintln!("skipped: python3 with pyarrow, polars, duckdb and pandas not available");
+    if !common::python_with("pyarrow, polars, duckdb, pandas") {
         return;
     }
     // relief.crack_pa ~ N(165 kPa, 1.5 kPa) falls below a 164 kPa reseat in some samples: those

@@ -52,3 +52,20 @@ pub fn mixture_du_dt(fluid: Fluid, v: f64, t: f64) -> f64 {
     let uv = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(fluid);
     f.cp_l_j_per_kg_k(t) + dx * (uv - ul) + x * (f.cv_vapor_j_per_kg_k - f.cp_l_j_per_kg_k(t))
 }
+
+/// Whether `python3` can import `modules` (e.g. "pyarrow, polars"); panics instead of skipping
+/// when CI requires Python (`CRYOSLOSH_REQUIRE_PYTHON`).
+pub fn python_with(modules: &str) -> bool {
+    let have = std::process::Command::new("python3")
+        .args(["-c", &format!("import {modules}")])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !have {
+        assert!(
+            std::env::var_os("CRYOSLOSH_REQUIRE_PYTHON").is_none(),
+            "python3 with {modules} is required"
+        );
+        eprintln!("skipped: python3 with {modules} not available");
+    }
+    have
+}
