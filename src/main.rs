@@ -132,10 +132,8 @@ fn main() -> ExitCode {
             eprintln!("error: {e:#}");
             let bad_input = e.downcast_ref::<CampaignError>().is_some()
                 || e.downcast_ref::<BadInput>().is_some()
-                || matches!(
-                    e.downcast_ref::<RunError>(),
-                    Some(RunError::Campaign(_) | RunError::Input(_))
-                );
+                || e.downcast_ref::<RunError>()
+                    .is_some_and(RunError::is_bad_input);
             if bad_input {
                 ExitCode::from(2)
             } else if e.downcast_ref::<Untrusted>().is_some() {
@@ -292,7 +290,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             until,
         } => {
             let c = Campaign::load(&campaign, &set)?;
-            refuse_non_empty(&out, force)?;
             let histories = match histories {
                 None => Vec::new(),
                 Some(spec) => montecarlo::histories::parse(&spec).map_err(BadInput)?,
@@ -328,6 +325,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 progress: true,
                 histories,
                 until,
+                force,
             };
             let report = montecarlo::run(&c, &backend, &opts)?;
             print!("{}", montecarlo::summary_text(&report));
@@ -368,40 +366,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Merge { dirs, out, force } => {
-            refuse_non_empty(&out, force)?;
-            let report = montecarlo::merge(&dirs, &out)?;
+            let report = montecarlo::merge(&dirs, &out, force)?;
             print!("{}", montecarlo::summary_text(&report));
             println!("merged {} shards into {}", dirs.len(), out.display());
             check_trust(&report)
         }
     }
-}
-
-/// Refuse to write results into a directory that already holds something (a previous run's
-/// results, or anything else) unless `--force`.
-fn refuse_non_empty(dir: &std::path::Path, force: bool) -> anyhow::Result<()> {
-    if force {
-        return Ok(());
-    }
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return Ok(()); // missing (created later) or unreadable (the write reports it)
-    };
-    let mut names: Vec<String> = entries
-        .filter_map(Result::ok)
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    if names.is_empty() {
-        return Ok(());
-    }
-    names.sort();
-    let shown = names.iter().take(4).cloned().collect::<Vec<_>>().join(", ");
-    let more = if names.len() > 4 { ", …" } else { "" };
-    Err(BadInput(format!(
-        "--out {}: the directory is not empty ({shown}{more}); choose another directory or pass \
-         --force to replace the results in it",
-        dir.display()
-    ))
-    .into())
 }
 
 /// `simulate --run DIR --instance I`: replay the instance, write its history, compare its row.

@@ -297,15 +297,27 @@ fn non_empty_out_needs_force_and_nothing_dispersed_is_said() {
     let o = cryoslosh(&base);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("notes.txt") && stderr(&o).contains("--force"));
-    assert!(!out.join("run.json").exists());
+    // --force replaces only a previous result: a directory of other files is never deleted.
     let o = cryoslosh(&[&base[..], &["--force"]].concat());
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(0), "{stdout}{}", stderr(&o));
-    assert!(stdout.contains("no [dispersions]"), "{stdout}");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("not a cryoslosh results directory"),
+        "{}",
+        stderr(&o)
+    );
     assert_eq!(
         std::fs::read_to_string(out.join("notes.txt")).unwrap(),
         "keep"
     );
+    std::fs::remove_dir_all(&out).unwrap();
+    let o = cryoslosh(&base);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", stderr(&o));
+    assert!(stdout.contains("no [dispersions]"), "{stdout}");
+    // A previous result: refused without --force, replaced with it.
+    assert_eq!(cryoslosh(&base).status.code(), Some(2));
+    let o = cryoslosh(&[&base[..], &["--force"]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     std::fs::remove_dir_all(out).ok();
 }
 

@@ -32,6 +32,7 @@ fn run(c: &Campaign, dir: &Path, n: u64, threads: usize, chunk: u64, shard: Shar
         progress: false,
         histories: Vec::new(),
         until: None,
+        force: false,
     };
     let backend = Backend::Cpu(CpuEngine::new(threads).unwrap());
     montecarlo::run(c, &backend, &opts).unwrap()
@@ -76,6 +77,7 @@ fn three_shards_merged_equal_the_full_run() {
     let report = montecarlo::merge(
         &[shards[2].clone(), shards[0].clone(), shards[1].clone()],
         &merged,
+        false,
     )
     .unwrap();
     assert_eq!(report.instances, 31);
@@ -87,10 +89,10 @@ fn three_shards_merged_equal_the_full_run() {
         );
     }
     // Shards that do not cover the campaign are refused.
-    let err = montecarlo::merge(&shards[..2], &scratch("partial")).unwrap_err();
+    let err = montecarlo::merge(&shards[..2], &scratch("partial"), false).unwrap_err();
     assert!(err.to_string().contains("shard 2/3 is missing"), "{err}");
     let twice = [shards[0].clone(), shards[1].clone(), shards[1].clone()];
-    let err = montecarlo::merge(&twice, &scratch("twice")).unwrap_err();
+    let err = montecarlo::merge(&twice, &scratch("twice"), false).unwrap_err();
     let msg = err.to_string();
     assert!(
         msg.contains("shard 1/3 is given twice") && msg.contains("shard 2/3 is missing"),

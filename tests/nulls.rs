@@ -29,6 +29,7 @@ fn rejected_instances_are_nulls_and_readers_agree() {
         progress: false,
         histories: Vec::new(),
         until: None,
+        force: false,
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     let r = montecarlo::run(&c, &backend, &opts).unwrap();

@@ -35,6 +35,7 @@ fn run(dir: &Path, threads: usize, chunk: u64, spec: &str) -> RunReport {
         progress: false,
         histories: Vec::new(),
         until: Some(parse_until(spec).unwrap()),
+        force: false,
     };
     montecarlo::run(&c, &Backend::Cpu(CpuEngine::new(threads).unwrap()), &opts).unwrap()
 }

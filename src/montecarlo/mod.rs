@@ -13,6 +13,7 @@ pub mod until;
 
 use crate::campaign::{Campaign, CampaignError};
 use crate::engine::Backend;
+use crate::output::results_dir::{failpoint, ResultsDirError, Staging};
 use crate::output::{atomic::write_atomic, OutputError};
 use crate::sampling::Design;
 use plan::Plan;
@@ -71,6 +72,8 @@ pub struct RunOptions {
     /// Stop early once this estimate is precise enough (`--until`; else the campaign's
     /// `[statistics.target]`); `instances` is then the cap.
     pub until: Option<crate::campaign::statistics::Target>,
+    /// Replace a previous result in `out_dir` (a non-empty directory is refused otherwise).
+    pub force: bool,
 }
 
 impl RunOptions {
@@ -172,6 +175,19 @@ pub enum RunError {
     Input(String),
     #[error("backend failed: {0}")]
     Engine(String),
+    #[error(transparent)]
+    Dir(#[from] ResultsDirError),
+}
+
+impl RunError {
+    /// Whether the error is the user's input (exit code 2) rather than a runtime failure.
+    pub fn is_bad_input(&self) -> bool {
+        match self {
+            RunError::Campaign(_) | RunError::Input(_) => true,
+            RunError::Dir(e) => !matches!(e, ResultsDirError::Io { .. }),
+            _ => false,
+        }
+    }
 }
 
 /// A `[statistics]` or `--until` key naming a QoI column, or the error naming the key.
@@ -307,10 +323,8 @@ fn set_meta(meta: &mut [(String, String)], key: &str, value: String) {
 pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport, RunError> {
     check_options(c, o)?;
     let engine = backend.engine();
-    std::fs::create_dir_all(&o.out_dir).map_err(|source| OutputError::Io {
-        path: o.out_dir.clone(),
-        source,
-    })?;
+    let staging = Staging::begin(&o.out_dir, o.force)?;
+    let dir = staging.path().to_path_buf();
     let plan = Plan {
         campaign: c,
         seed: o.seed,
@@ -327,7 +341,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         .and_then(|t| until::Stopper::new(t.clone(), c.statistics.confidence, range.start, group));
     let count_known = stopper.is_none().then_some(o.instances);
     let mut meta = metadata(c, engine.name(), o.seed, count_known, o.shard);
-    let inst_path = o.out_dir.join("instances.parquet");
+    let inst_path = dir.join("instances.parquet");
     let writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
     let mut stop_at = range.end;
 
@@ -405,12 +419,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
             .expect("the Parquet writer thread does not panic");
         integrated.and(written)
     });
-    if outcome.is_err() {
-        if let Ok(tmp) = crate::output::atomic::temp_path(&inst_path) {
-            let _ = std::fs::remove_file(tmp);
-        }
-    }
-    outcome?;
+    outcome?; // on error the staging directory is removed when `staging` drops
     bar.finish_and_clear();
     let wall_s = start.elapsed().as_secs_f64();
 
@@ -429,10 +438,12 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         }
         None => o.instances,
     };
-    let rows = finish_statistics(c, &o.out_dir, total, o.seed, full, meta)?;
+    failpoint("after-instances");
+    let rows = finish_statistics(c, &dir, total, o.seed, full, meta)?;
+    failpoint("after-statistics");
     if !o.histories.is_empty() {
         let chosen = histories::select(&o.histories, &inst_path)?;
-        histories::write(&plan, &o.out_dir, &chosen)?;
+        histories::write(&plan, &dir, &chosen)?;
     }
     let report = RunReport {
         instances: stop_at - range.start,
@@ -457,7 +468,8 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         until: stopper.as_ref().map(until::Stopper::describe),
         statistics: rows,
     };
-    write_run_json(&o.out_dir, &report, total)?;
+    write_run_json(&dir, &report, total)?;
+    staging.publish()?;
     Ok(report)
 }
 
@@ -596,7 +608,8 @@ fn check_cover(shards: &[ShardDir], count: u64) -> Result<(), RunError> {
 /// Join shard directories (any order) into `out`: rows in instance order, statistics recomputed,
 /// metadata as the unsharded run writes it. Checks that the shards are of one campaign and
 /// cover it exactly once.
-pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
+pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, RunError> {
+    refuse_output_among_inputs(dirs, out)?;
     let mut shards: Vec<ShardDir> = dirs
         .iter()
         .map(|d| read_shard(d))
@@ -632,17 +645,17 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
         .and_then(|v| v.parse().ok())
         .unwrap_or(0);
 
-    std::fs::create_dir_all(out).map_err(|source| OutputError::Io {
-        path: out.to_path_buf(),
-        source,
-    })?;
+    let staging = Staging::begin(out, force)?;
+    let dir = staging.path().to_path_buf();
     let mut meta = first.meta.clone();
     set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());
-    let mut writer =
-        InstanceWriter::create(&out.join("instances.parquet"), &c.dispersions, meta.clone())?;
+    let inst_path = dir.join("instances.parquet");
+    let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
     let mut rows = 0;
     for s in &shards {
-        rows += table::copy_rows(&mut writer, &s.dir.join("instances.parquet"))?;
+        let file = s.dir.join("instances.parquet");
+        verify_shard(&c, s, &file, total)?;
+        rows += table::copy_rows(&mut writer, &file)?;
     }
     writer.finish()?;
     if rows != total {
@@ -653,7 +666,15 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
     let seed = meta_value(&first.meta, "cryoslosh.seed")
         .and_then(|v| v.parse().ok())
         .unwrap_or(c.seed);
-    let stats = finish_statistics(&c, out, total, seed, true, meta)?;
+    let stats = finish_statistics(&c, &dir, total, seed, true, meta)?;
+    // Counts from the merged rows, never copied from the shards' run.json.
+    let count_true = |name: &str| -> Result<u64, RunError> {
+        Ok(table::read_bool(&inst_path, name)?
+            .into_iter()
+            .filter(|&x| x)
+            .count() as u64)
+    };
+    let (diverged, rejected) = (count_true("diverged")?, count_true("rejected")?);
     let sum = |key: &str| {
         shards
             .iter()
@@ -662,8 +683,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
     };
     let report = RunReport {
         instances: rows,
-        diverged: sum("diverged"),
-        rejected: sum("rejected"),
+        diverged,
+        rejected,
         instance_steps: sum("instance_steps"),
         wall_s: shards
             .iter()
@@ -695,6 +716,90 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<RunReport, RunError> {
         until: None,
         statistics: stats,
     };
-    write_run_json(out, &report, total)?;
+    write_run_json(&dir, &report, total)?;
+    staging.publish()?;
     Ok(report)
+}
+
+/// `merge … --out` may not be (or contain, or lie inside) one of its shard directories.
+fn refuse_output_among_inputs(dirs: &[PathBuf], out: &Path) -> Result<(), RunError> {
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let out_c = match std::fs::canonicalize(out) {
+        Ok(p) => p,
+        // A missing --out: compare its would-be location through its parent.
+        Err(_) => match (out.parent(), out.file_name()) {
+            (Some(parent), Some(name)) if !parent.as_os_str().is_empty() => {
+                canon(parent).join(name)
+            }
+            _ => canon(Path::new(".")).join(out),
+        },
+    };
+    for d in dirs {
+        let d_c = canon(d);
+        if out_c.starts_with(&d_c) || d_c.starts_with(&out_c) {
+            return Err(RunError::Input(format!(
+                "--out {}: it is (or overlaps) the shard directory {}: merge into a new directory",
+                out.display(),
+                d.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A shard's file must have the merged schema (names and types, in order) and hold exactly the
+/// instance ids of its declared range, in order.
+fn verify_shard(c: &Campaign, s: &ShardDir, file: &Path, total: u64) -> Result<(), RunError> {
+    let bad =
+        |why: String| RunError::Input(format!("shard {} ({}): {why}", s.shard, s.dir.display()));
+    let input_columns: Vec<String> = c
+        .dispersions
+        .inputs
+        .iter()
+        .map(|i| i.column.clone())
+        .collect();
+    let expected = table::schema(&input_columns);
+    let found = table::read_schema(file)?;
+    let want: Vec<(String, String)> = expected
+        .iter()
+        .map(|spec| (spec.name.clone(), spec.kind.to_string()))
+        .collect();
+    if found != want {
+        let first_diff = want
+            .iter()
+            .zip(&found)
+            .position(|(a, b)| a != b)
+            .unwrap_or(want.len().min(found.len()));
+        let show = |v: &[(String, String)]| {
+            v.get(first_diff)
+                .map_or_else(|| "(none)".to_string(), |(n, k)| format!("{n} ({k})"))
+        };
+        return Err(bad(format!(
+            "instances.parquet has other columns than the campaign: column {} is {}, expected {}",
+            first_diff + 1,
+            show(&found),
+            show(&want)
+        )));
+    }
+    let ids = table::read_u64(file, "instance")?;
+    let range = s.shard.range(total);
+    if ids.len() as u64 != range.end - range.start
+        || ids.iter().zip(range.clone()).any(|(&a, b)| a != b)
+    {
+        let wrong = ids
+            .iter()
+            .zip(range.clone())
+            .find(|(&a, b)| a != *b)
+            .map_or_else(String::new, |(a, b)| {
+                format!("; row {} holds instance {a}", b - range.start)
+            });
+        return Err(bad(format!(
+            "holds {} rows, but shard {} of {total} instances is {}..{}{wrong}",
+            ids.len(),
+            s.shard,
+            range.start,
+            range.end
+        )));
+    }
+    Ok(())
 }

@@ -266,6 +266,31 @@ fn parquet_err(path: &Path, e: impl std::fmt::Display) -> ReadError {
     }
 }
 
+/// Column names and kinds of a Parquet file, in order (kinds spelled as [`ColumnKind`]'s
+/// display: f64, u64, bool, …; another Arrow type by its own name).
+pub fn read_schema(path: &Path) -> Result<Vec<(String, String)>, ReadError> {
+    use arrow_schema::DataType;
+    let file = std::fs::File::open(path).map_err(|e| parquet_err(path, e))?;
+    let builder =
+        ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| parquet_err(path, e))?;
+    Ok(builder
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| {
+            let kind = match f.data_type() {
+                DataType::Float64 => ColumnKind::F64.to_string(),
+                DataType::UInt64 => ColumnKind::U64.to_string(),
+                DataType::Int32 => ColumnKind::I32.to_string(),
+                DataType::Boolean => ColumnKind::Bool.to_string(),
+                DataType::Utf8 => ColumnKind::Utf8.to_string(),
+                other => other.to_string(),
+            };
+            (f.name().clone(), kind)
+        })
+        .collect())
+}
+
 /// File-level key-value metadata of an instances file.
 pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, ReadError> {
     let file = std::fs::File::open(path).map_err(|e| parquet_err(path, e))?;

@@ -11,6 +11,7 @@
 
 pub mod atomic;
 mod parquet;
+pub mod results_dir;
 
 pub use self::parquet::{ColumnData, ColumnKind, ColumnSpec, TableWriter};
 

@@ -1,0 +1,253 @@
+//! A results directory published whole or not at all.
+//!
+//! A command writes every file into a staging sibling `.<name>.tmp-<pid>` and publishes it with
+//! one atomic rename (Linux: `renameat2(RENAME_EXCHANGE)` when a previous result is replaced, so
+//! the name always points at a complete directory; elsewhere two renames, with the previous result
+//! kept as `.<name>.old-<pid>` in between and restored by the next command if the process died
+//! there). An advisory lock on `.<name>.lock` (std's `File::try_lock`, flock on Unix) refuses a
+//! second writer of the same directory, and under it the stale staging directories of dead
+//! processes are removed.
+
+use std::fs::{self, File};
+use std::path::{Path, PathBuf};
+
+/// Why a results directory cannot be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ResultsDirError {
+    /// Another process holds the lock of this directory.
+    #[error("{0}: another cryoslosh process is writing this results directory")]
+    Busy(PathBuf),
+    /// The directory holds something and `--force` was not given.
+    #[error(
+        "--out {path}: the directory is not empty ({listing}); choose another directory or pass \
+         --force to replace the previous result"
+    )]
+    NotEmpty { path: PathBuf, listing: String },
+    /// `--force` on a directory that is not a cryoslosh result: it would be deleted whole.
+    #[error(
+        "--out {path}: not a cryoslosh results directory (no run.json; it holds {listing}): \
+         --force replaces only a previous result, so choose another directory"
+    )]
+    Foreign { path: PathBuf, listing: String },
+    /// `--out` names something other than a directory.
+    #[error("--out {0}: exists and is not a directory")]
+    NotADirectory(PathBuf),
+    /// A filesystem operation failed.
+    #[error("cannot write results directory {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ResultsDirError + '_ {
+    move |source| ResultsDirError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Test hook: when the environment variable `CRYOSLOSH_FAILPOINT` equals `name`, the process
+/// aborts here (as a kill would). Used by `tests/crash.rs` to stop a command between any two
+/// writes and renames.
+pub fn failpoint(name: &str) {
+    if std::env::var_os("CRYOSLOSH_FAILPOINT").is_some_and(|v| v == name) {
+        std::process::abort();
+    }
+}
+
+/// A results directory being written: files go to [`Self::path`]; [`Self::publish`] makes them
+/// the result. Dropped unpublished, the staging directory is removed.
+#[derive(Debug)]
+pub struct Staging {
+    target: PathBuf,
+    staging: PathBuf,
+    _lock: File,
+    published: bool,
+}
+
+/// Sorted entry names of a directory, the first few joined for a message.
+fn listing(dir: &Path) -> std::io::Result<(usize, String)> {
+    let mut names: Vec<String> = fs::read_dir(dir)?
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let shown = names.iter().take(4).cloned().collect::<Vec<_>>().join(", ");
+    let more = if names.len() > 4 { ", …" } else { "" };
+    Ok((names.len(), format!("{shown}{more}")))
+}
+
+impl Staging {
+    /// Lock `target`, clean up after dead writers, check it may be written, and create the
+    /// staging directory. `force` allows replacing a previous result (a directory with a
+    /// `run.json`); an empty or missing directory needs no `force`.
+    pub fn begin(target: &Path, force: bool) -> Result<Staging, ResultsDirError> {
+        let name = target
+            .file_name()
+            .ok_or_else(|| ResultsDirError::NotADirectory(target.to_path_buf()))?
+            .to_string_lossy()
+            .into_owned();
+        let parent = match target.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        fs::create_dir_all(&parent).map_err(io(&parent))?;
+        let lock_path = parent.join(format!(".{name}.lock"));
+        let lock = File::options()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&lock_path)
+            .map_err(io(&lock_path))?;
+        match lock.try_lock() {
+            Ok(()) => {}
+            Err(std::fs::TryLockError::WouldBlock) => {
+                return Err(ResultsDirError::Busy(target.to_path_buf()))
+            }
+            Err(std::fs::TryLockError::Error(e)) => return Err(io(&lock_path)(e)),
+        }
+        recover(&parent, &name, target)?;
+        match fs::symlink_metadata(target) {
+            Ok(m) if !m.is_dir() => {
+                return Err(ResultsDirError::NotADirectory(target.to_path_buf()))
+            }
+            Ok(_) => {
+                let (count, list) = listing(target).map_err(io(target))?;
+                if count > 0 {
+                    if !force {
+                        return Err(ResultsDirError::NotEmpty {
+                            path: target.to_path_buf(),
+                            listing: list,
+                        });
+                    }
+                    if !target.join("run.json").is_file() {
+                        return Err(ResultsDirError::Foreign {
+                            path: target.to_path_buf(),
+                            listing: list,
+                        });
+                    }
+                }
+            }
+            Err(_) => {}
+        }
+        let staging = parent.join(format!(".{name}.tmp-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&staging);
+        fs::create_dir(&staging).map_err(io(&staging))?;
+        Ok(Staging {
+            target: target.to_path_buf(),
+            staging,
+            _lock: lock,
+            published: false,
+        })
+    }
+
+    /// Where the command writes its files.
+    pub fn path(&self) -> &Path {
+        &self.staging
+    }
+
+    /// Make the staged files the result: one atomic rename (or exchange) and a directory fsync.
+    pub fn publish(mut self) -> Result<(), ResultsDirError> {
+        sync_dir(&self.staging);
+        failpoint("before-publish");
+        let exists = fs::symlink_metadata(&self.target).is_ok();
+        if !exists {
+            fs::rename(&self.staging, &self.target).map_err(io(&self.target))?;
+        } else {
+            replace(&self.staging, &self.target)?;
+        }
+        self.published = true;
+        if let Some(parent) = self.target.parent() {
+            sync_dir(if parent.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                parent
+            });
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if !self.published {
+            let _ = fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+/// Replace the directory `target` by `staging`; afterwards `staging` is gone and the previous
+/// result deleted.
+fn replace(staging: &Path, target: &Path) -> Result<(), ResultsDirError> {
+    #[cfg(target_os = "linux")]
+    {
+        use std::ffi::CString;
+        use std::os::unix::ffi::OsStrExt;
+        let cstr = |p: &Path| CString::new(p.as_os_str().as_bytes()).ok();
+        if let (Some(a), Some(b)) = (cstr(staging), cstr(target)) {
+            // SAFETY: both are valid NUL-terminated paths; AT_FDCWD resolves them relative to
+            // the working directory like std's rename.
+            let rc = unsafe {
+                libc::renameat2(
+                    libc::AT_FDCWD,
+                    a.as_ptr(),
+                    libc::AT_FDCWD,
+                    b.as_ptr(),
+                    libc::RENAME_EXCHANGE,
+                )
+            };
+            if rc == 0 {
+                failpoint("after-exchange");
+                // `staging` now holds the previous result.
+                let _ = fs::remove_dir_all(staging);
+                return Ok(());
+            }
+            // EINVAL/ENOSYS (a filesystem without exchange): fall back to two renames.
+        }
+    }
+    let old = old_path(target);
+    let _ = fs::remove_dir_all(&old);
+    fs::rename(target, &old).map_err(io(target))?;
+    failpoint("between-renames");
+    fs::rename(staging, target).map_err(io(target))?;
+    let _ = fs::remove_dir_all(&old);
+    Ok(())
+}
+
+/// `.<name>.old-<pid>` beside `target`.
+fn old_path(target: &Path) -> PathBuf {
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    target.with_file_name(format!(".{name}.old-{}", std::process::id()))
+}
+
+/// Under the lock: restore a previous result that a writer killed between its two renames left
+/// as `.<name>.old-*` (when the name is empty), and remove every other staging or old directory.
+fn recover(parent: &Path, name: &str, target: &Path) -> Result<(), ResultsDirError> {
+    let tmp_prefix = format!(".{name}.tmp-");
+    let old_prefix = format!(".{name}.old-");
+    let Ok(entries) = fs::read_dir(parent) else {
+        return Ok(());
+    };
+    for e in entries.filter_map(Result::ok) {
+        let file_name = e.file_name().to_string_lossy().into_owned();
+        let path = e.path();
+        if file_name.starts_with(&old_prefix) && fs::symlink_metadata(target).is_err() {
+            fs::rename(&path, target).map_err(io(target))?;
+        } else if file_name.starts_with(&tmp_prefix) || file_name.starts_with(&old_prefix) {
+            let _ = fs::remove_dir_all(&path);
+        }
+    }
+    Ok(())
+}
+
+/// Best-effort fsync of a directory (makes renames inside it durable).
+fn sync_dir(dir: &Path) {
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+}

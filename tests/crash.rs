@@ -1,0 +1,237 @@
+//! A `run` or `merge` killed after its first rename used to leave new rows beside an older run's
+//! statistics, and temporaries that were never cleaned. A results directory is now published whole
+//! or not at all: killed at any failpoint (test hook `CRYOSLOSH_FAILPOINT`), the directory holds
+//! the previous complete result or the new one; the next command on that path removes what the
+//! killed one left; a second writer on the same directory is refused; merge checks its shards.
+
+mod common;
+use common::campaign_path;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cryoslosh-crash-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn cryoslosh(args: &[&str], failpoint: Option<&str>) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_cryoslosh"));
+    cmd.args(args);
+    match failpoint {
+        Some(f) => cmd.env("CRYOSLOSH_FAILPOINT", f),
+        None => cmd.env_remove("CRYOSLOSH_FAILPOINT"),
+    };
+    cmd.output().unwrap()
+}
+
+/// Every file under `dir` (relative path → bytes); `run.json` reduced to its seed (its wall
+/// time differs between runs of the same result).
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let mut bytes = std::fs::read(&p).unwrap();
+                if p.file_name().unwrap() == "run.json" {
+                    let v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+                    bytes = v["seed"].to_string().into_bytes();
+                }
+                out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), bytes);
+            }
+        }
+    }
+    out
+}
+
+/// Names beside `dir` that a writer of `dir` leaves (staging, old copies), lock file excluded.
+fn leftovers(dir: &Path) -> Vec<String> {
+    let name = dir.file_name().unwrap().to_string_lossy().into_owned();
+    std::fs::read_dir(dir.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| {
+            n.starts_with(&format!(".{name}.tmp-")) || n.starts_with(&format!(".{name}.old-"))
+        })
+        .collect()
+}
+
+fn run_args<'a>(camp: &'a str, out: &'a str, seed: &'a str) -> Vec<&'a str> {
+    vec![
+        "run",
+        camp,
+        "--out",
+        out,
+        "--instances",
+        "12",
+        "--seed",
+        seed,
+        "--backend",
+        "cpu",
+        "--set",
+        "phases.0.duration_s=600",
+        "--histories",
+        "instance:3",
+        "--force",
+    ]
+}
+
+#[test]
+fn a_killed_run_leaves_the_previous_result_or_the_new_one() {
+    let camp = campaign_path("mhtb_selfpress");
+    let camp = camp.to_str().unwrap();
+    let root = scratch("run");
+    let out = root.join("results");
+    let outs = out.to_str().unwrap();
+    // The new result, made once in a directory of its own, to compare against.
+    let fresh = root.join("fresh");
+    let o = cryoslosh(&run_args(camp, fresh.to_str().unwrap(), "2"), None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let new = snapshot(&fresh);
+    let o = cryoslosh(&run_args(camp, outs, "1"), None);
+    assert!(o.status.success());
+    let old = snapshot(&out);
+    assert_ne!(old, new);
+    for (point, published) in [
+        ("after-instances", false),
+        ("after-statistics", false),
+        ("before-publish", false),
+        ("after-exchange", true),
+    ] {
+        let o = cryoslosh(&run_args(camp, outs, "2"), Some(point));
+        assert!(
+            !o.status.success(),
+            "{point}: the failpoint must stop the process"
+        );
+        let now = snapshot(&out);
+        if published {
+            assert!(now == new, "{point}: the new result must be whole");
+        } else {
+            assert!(now == old, "{point}: the previous result must be untouched");
+        }
+        // The next command on that path cleans up and publishes (back to seed 1).
+        let o = cryoslosh(&run_args(camp, outs, "1"), None);
+        assert!(
+            o.status.success(),
+            "{point}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(leftovers(&out).is_empty(), "{point}: {:?}", leftovers(&out));
+        assert!(
+            snapshot(&out) == old,
+            "{point}: rerun must reproduce the result"
+        );
+    }
+    std::fs::remove_dir_all(root).ok();
+}
+
+#[test]
+fn a_second_writer_of_one_directory_is_refused() {
+    let camp = campaign_path("mhtb_selfpress");
+    let root = scratch("lock");
+    let out = root.join("results");
+    let lock = std::fs::File::options()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(root.join(".results.lock"))
+        .unwrap();
+    lock.lock().unwrap(); // as another cryoslosh process holding the directory would
+    let o = cryoslosh(
+        &run_args(camp.to_str().unwrap(), out.to_str().unwrap(), "1"),
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("another cryoslosh process"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!out.exists());
+    drop(lock);
+    std::fs::remove_dir_all(root).ok();
+}
+
+#[test]
+fn merge_refuses_tampered_shards_and_its_own_input_and_a_killed_merge_publishes_nothing() {
+    let camp = campaign_path("mhtb_selfpress");
+    let camp = camp.to_str().unwrap();
+    let root = scratch("merge");
+    let shard = |i: u32| {
+        let d = root.join(format!("s{i}"));
+        let mut args = run_args(camp, d.to_str().unwrap(), "1");
+        args.truncate(args.len() - 3); // no histories, no --force
+        let spec = format!("{i}/2");
+        let o = cryoslosh(&[&args[..], &["--shard", &spec]].concat(), None);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        d
+    };
+    let (s0, s1) = (shard(0), shard(1));
+    let (s0s, s1s) = (s0.to_str().unwrap(), s1.to_str().unwrap());
+    let merged = root.join("merged");
+    let ms = merged.to_str().unwrap();
+    // Killed before publishing: nothing appears.
+    let o = cryoslosh(&["merge", s0s, s1s, "--out", ms], Some("before-publish"));
+    assert!(!o.status.success());
+    assert!(!merged.exists());
+    let o = cryoslosh(&["merge", s0s, s1s, "--out", ms], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(leftovers(&merged).is_empty());
+    // The output may not be an input.
+    let o = cryoslosh(&["merge", s0s, s1s, "--out", s0s, "--force"], None);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("overlaps"));
+    // A shard whose rows are relabelled (ids shifted by one: a gap and a foreign id) is named
+    // and refused, and nothing is written.
+    if common::python_with("pyarrow") {
+        let bad = root.join("bad");
+        std::fs::create_dir_all(&bad).unwrap();
+        for f in ["run.json", "statistics.parquet"] {
+            std::fs::copy(s0.join(f), bad.join(f)).unwrap();
+        }
+        let script = format!(
+            "import pyarrow as pa, pyarrow.parquet as pq\n\
+             t = pq.read_table('{0}')\n\
+             ids = pa.array([i + 1 for i in t.column('instance').to_pylist()], pa.uint64())\n\
+             t = t.set_column(0, 'instance', ids)\n\
+             kv = {{k: v for k, v in pq.read_metadata('{0}').metadata.items() if k != b'ARROW:schema'}}\n\
+             pq.write_table(t.replace_schema_metadata(kv), '{1}')\n",
+            s0.join("instances.parquet").display(),
+            bad.join("instances.parquet").display()
+        );
+        let py = Command::new("python3")
+            .args(["-c", &script])
+            .output()
+            .unwrap();
+        assert!(
+            py.status.success(),
+            "{}",
+            String::from_utf8_lossy(&py.stderr)
+        );
+        let m2 = root.join("m2");
+        let o = cryoslosh(
+            &[
+                "merge",
+                bad.to_str().unwrap(),
+                s1s,
+                "--out",
+                m2.to_str().unwrap(),
+            ],
+            None,
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("shard 0/2") && err.contains("holds instance 1"),
+            "{err}"
+        );
+        assert!(!m2.exists());
+    }
+    std::fs::remove_dir_all(root).ok();
+}
