@@ -30,12 +30,14 @@ pub fn provenance(c: &Campaign, backend: &str, shard: &str) -> Vec<(String, Stri
 }
 
 /// Write `h` to `path` atomically: the f64 columns of [`HISTORY_COLUMNS`], then `phase` (utf8)
-/// and `valve_open` (bool). `instance` is recorded in the metadata.
+/// and `valve_open` (bool). `instance` is recorded in the metadata, and `cryoslosh.diverged` is
+/// `false` or `true: <reason>`.
 pub fn write_history(
     path: &Path,
     c: &Campaign,
     h: &History,
     instance: &str,
+    diverged: Option<&str>,
 ) -> Result<u64, OutputError> {
     let mut specs: Vec<ColumnSpec> = HISTORY_COLUMNS
         .iter()
@@ -45,6 +47,11 @@ pub fn write_history(
     specs.push(ColumnSpec::new("valve_open", ColumnKind::Bool));
     let mut meta = provenance(c, "cpu", "0/1");
     meta.push(("cryoslosh.instance".into(), instance.to_string()));
+    // A diverged instance's history stops where the model left its validity: say so and why.
+    meta.push((
+        "cryoslosh.diverged".into(),
+        diverged.map_or_else(|| "false".to_string(), |why| format!("true: {why}")),
+    ));
     let mut w = TableWriter::create(path, specs, meta)?;
     let mut data: Vec<ColumnData> = h.columns.iter().map(|c| ColumnData::F64(c)).collect();
     data.push(ColumnData::Utf8(&h.phase));

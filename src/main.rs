@@ -225,6 +225,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 return Err(BadInput("simulate needs a campaign file or --run DIR".into()).into());
             };
             let nominal = Campaign::load(&campaign, &set)?;
+            check_history_out(&out, &nominal.input_files())?;
             let (c, label) = match instance {
                 None => (nominal, "nominal".to_string()),
                 Some(i) if i >= nominal.instances => {
@@ -256,7 +257,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let start = std::time::Instant::now();
             let q = simulate::simulate(&c, &c.params, Some(&mut h));
             let wall = start.elapsed().as_secs_f64();
-            let rows = cryoslosh::history::write_history(&out, &c, &h, &label)
+            let diverged = q
+                .diverged
+                .then(|| q.diverged_reason.clone().unwrap_or_default());
+            let rows = cryoslosh::history::write_history(&out, &c, &h, &label, diverged.as_deref())
                 .with_context(|| format!("writing {}", out.display()))?;
             println!("{}", simulate::describe_summary(&q));
             println!(
@@ -374,8 +378,38 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// Most worker threads `--threads` accepts (100000 used to spawn ~16000 threads and stall the
+/// machine).
+const MAX_THREADS: usize = 1024;
+
+/// A history `--out` may not be one of the command's inputs (the campaign, an excitation table),
+/// nor anything but a regular file (a FIFO, device or symlink there would be replaced).
+fn check_history_out(out: &std::path::Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    if let Ok(m) = std::fs::symlink_metadata(out) {
+        if !m.is_file() {
+            return Err(BadInput(format!(
+                "--out {}: exists and is not a regular file (a directory, link, FIFO or device)",
+                out.display()
+            ))
+            .into());
+        }
+        let same = |p: &PathBuf| std::fs::canonicalize(p).ok() == std::fs::canonicalize(out).ok();
+        if let Some(input) = inputs.iter().find(|p| same(p)) {
+            return Err(BadInput(format!(
+                "--out {}: it is an input of this command ({}); write the history elsewhere",
+                out.display(),
+                input.display()
+            ))
+            .into());
+        }
+    }
+    Ok(())
+}
+
 /// `simulate --run DIR --instance I`: replay the instance, write its history, compare its row.
 fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Result<()> {
+    let files = ["instances.parquet", "statistics.parquet", "run.json"].map(|f| dir.join(f));
+    check_history_out(out, &files)?;
     let mut h = History::default();
     let (run, record) = montecarlo::replay::replay(dir, i, Some(&mut h))?;
     let c = &run.campaign;
@@ -389,8 +423,12 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
         );
     } else {
         let q = &record.summary;
-        let rows = cryoslosh::history::write_history(out, c, &h, &i.to_string())
-            .with_context(|| format!("writing {}", out.display()))?;
+        let diverged = q
+            .diverged
+            .then(|| q.diverged_reason.clone().unwrap_or_default());
+        let rows =
+            cryoslosh::history::write_history(out, c, &h, &i.to_string(), diverged.as_deref())
+                .with_context(|| format!("writing {}", out.display()))?;
         println!("{}", simulate::describe_summary(q));
         println!("{} steps; {rows} rows → {}", q.steps, out.display());
     }
@@ -419,6 +457,12 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
 /// code 2; `auto` takes a hardware GPU when one opens, else the CPU. The GPU integrates with
 /// fixed-step RK4 only: an adaptive campaign on `gpu` exits 2, on `auto` takes the CPU.
 fn select_backend(name: &str, threads: usize, integrator: Integrator) -> anyhow::Result<Backend> {
+    if threads > MAX_THREADS {
+        return Err(BadInput(format!(
+            "--threads {threads}: at most {MAX_THREADS} (0 takes one per core)"
+        ))
+        .into());
+    }
     let gpu = |hardware_only: bool| context::open(hardware_only).and_then(GpuEngine::new);
     let adaptive = integrator != Integrator::Rk4;
     match name {

@@ -219,6 +219,21 @@ impl Campaign {
         Ok(())
     }
 
+    /// The files the campaign reads: itself and its excitation tables.
+    pub fn input_files(&self) -> Vec<PathBuf> {
+        let dir = self.path.parent().unwrap_or_else(|| Path::new("."));
+        let mut files = vec![self.path.clone()];
+        if let Some(phases) = self.document.get("phases").and_then(toml::Value::as_array) {
+            files.extend(phases.iter().filter_map(|ph| {
+                ph.get("excitation")?
+                    .get("file")?
+                    .as_str()
+                    .map(|f| dir.join(f))
+            }));
+        }
+        files
+    }
+
     /// The campaign of one instance: `values[j]` set at `dispersions.inputs[j].key`, then
     /// validated like the nominal. An error means the sample left a field's allowed range.
     pub fn instance(&self, values: &[f64]) -> Result<Campaign, CampaignError> {

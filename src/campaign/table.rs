@@ -1,5 +1,7 @@
-//! Tabulated excitation: a CSV of `time_s,a_lat_m_s2[,a_ax_m_s2]` with an optional header line and
-//! `#` comments, times strictly increasing.
+//! Tabulated excitation: a CSV of `time_s,a_lat_m_s2[,a_ax_m_s2]` with an optional header line
+//! (recognised by those column names only), `#` comments and an optional UTF-8 byte-order mark,
+//! times strictly increasing. Any other line that is not numbers is an error naming the file,
+//! line and column: a typo in the first data row ("2.O") used to be skipped as a header.
 
 use super::validate::Checker;
 use super::CampaignError;
@@ -14,24 +16,32 @@ pub(super) fn read_excitation_table(
 ) -> Result<Excitation, CampaignError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| c.table_err(key, path.display(), format!("a readable CSV file ({e})")))?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let (mut ts, mut lat, mut ax) = (Vec::new(), Vec::new(), Vec::new());
+    let mut first = true;
     for (n, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
             continue;
         }
         let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-        let nums: Option<Vec<f64>> = cells.iter().map(|s| s.parse::<f64>().ok()).collect();
-        let Some(nums) = nums else {
-            if ts.is_empty() {
-                continue; // header line
+        if std::mem::take(&mut first) && is_header(&cells) {
+            continue;
+        }
+        let mut nums = Vec::with_capacity(cells.len());
+        for (col, cell) in cells.iter().enumerate() {
+            match cell.parse::<f64>() {
+                Ok(v) => nums.push(v),
+                Err(_) => {
+                    return Err(c.table_err(
+                        key,
+                        format!("{}:{}: column {}: {cell:?}", path.display(), n + 1, col + 1),
+                        "numbers: time_s,a_lat_m_s2[,a_ax_m_s2] (a header line may name exactly \
+                         those columns)",
+                    ))
+                }
             }
-            return Err(c.table_err(
-                key,
-                format!("{}:{}: {line}", path.display(), n + 1),
-                "numbers: time_s,a_lat_m_s2[,a_ax_m_s2]",
-            ));
-        };
+        }
         let ok_len = nums.len() == 2 || nums.len() == 3;
         let finite = nums.iter().all(|v| v.is_finite());
         let increasing = ts.last().is_none_or(|&last| nums[0] > last);
@@ -54,4 +64,12 @@ pub(super) fn read_excitation_table(
         a_lat: lat,
         a_ax: ax,
     })
+}
+
+/// Whether the cells are the table's header: `time_s,a_lat_m_s2[,a_ax_m_s2]`.
+fn is_header(cells: &[&str]) -> bool {
+    matches!(
+        cells,
+        ["time_s", "a_lat_m_s2"] | ["time_s", "a_lat_m_s2", "a_ax_m_s2"]
+    )
 }

@@ -9,6 +9,15 @@ use crate::model::flight::{Excitation, Phase, PhaseKind, G0};
 use crate::model::params::*;
 use std::path::Path;
 
+/// Smallest tank radius accepted, m: below it the wall area and the slosh parameters lose
+/// their meaning (a 1e-300 m tank passed `check` with a NaN wall).
+pub const MIN_RADIUS_M: f64 = 1.0e-3;
+/// Smallest fixed step accepted, s.
+pub const MIN_DT_S: f64 = 1.0e-6;
+/// Most fixed steps one phase may ask for: a campaign that needs more says so at `check`
+/// instead of running for days (`phases.N.dt_s = 1e-300` ran forever).
+pub const MAX_STEPS_PER_PHASE: f64 = 1.0e8;
+
 /// Checks values against allowed ranges, naming the file and key on failure.
 pub(super) struct Checker<'a> {
     pub file: &'a Path,
@@ -122,7 +131,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
     let t = &raw.tank;
     let shape = Shape::from_name(&t.shape)
         .ok_or_else(|| c.err("tank.shape", &t.shape, "cylinder | capsule | sphere"))?;
-    let radius = c.positive("tank.radius_m", t.radius_m, 50.0)?;
+    let radius = c.range("tank.radius_m", t.radius_m, MIN_RADIUS_M, 50.0)?;
     let length = match shape {
         Shape::Cylinder => c.positive(
             "tank.cylinder_length_m",
@@ -580,7 +589,25 @@ fn phase(
         other => return Err(c.err(&key("kind"), other, "hold | burn | coast")),
     };
     let duration = c.positive(&key("duration_s"), ph.duration_s, 1.0e9)?;
-    let dt = c.positive(&key("dt_s"), ph.dt_s.unwrap_or(dt_default), 3600.0)?;
+    let dt = c.range(
+        &key("dt_s"),
+        ph.dt_s.unwrap_or(dt_default),
+        MIN_DT_S,
+        3600.0,
+    )?;
+    let steps = (duration / dt).ceil();
+    if steps > MAX_STEPS_PER_PHASE {
+        return Err(c.err(
+            &key("dt_s"),
+            number(dt),
+            format!(
+                "a step giving at most {} steps over the phase's {} s (this one gives {})",
+                number(MAX_STEPS_PER_PHASE),
+                number(duration),
+                number(steps)
+            ),
+        ));
+    }
     let thrust = match kind {
         PhaseKind::Burn => c.positive(&key("thrust_n"), ph.thrust_n.unwrap_or(f64::NAN), 1.0e9)?,
         _ => c.range(&key("thrust_n"), ph.thrust_n.unwrap_or(0.0), 0.0, 0.0)?,

@@ -134,9 +134,12 @@ pub fn write(plan: &Plan, dir: &Path, instances: &[u64]) -> Result<Vec<PathBuf>,
         ci.path = plan.campaign.path.clone();
         ci.seed = plan.seed;
         let mut h = History::default();
-        simulate(&ci, &ci.params, Some(&mut h));
+        let q = simulate(&ci, &ci.params, Some(&mut h));
         let path = history_path(dir, i);
-        crate::history::write_history(&path, &ci, &h, &i.to_string())?;
+        let diverged = q
+            .diverged
+            .then(|| q.diverged_reason.clone().unwrap_or_default());
+        crate::history::write_history(&path, &ci, &h, &i.to_string(), diverged.as_deref())?;
         files.push(path);
     }
     Ok(files)

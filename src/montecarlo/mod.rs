@@ -253,12 +253,19 @@ fn check_target(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
     Ok(())
 }
 
+/// Most instances one campaign may hold: indices, strata and row counts stay far from overflow
+/// (18446744073709551615 used to lose a row or hang).
+pub const MAX_INSTANCES: u64 = 1_000_000_000_000;
+
 /// Check run options against the campaign before anything is written.
 pub fn check_options(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
     check_statistics(c)?;
     check_target(c, o)?;
-    if o.instances == 0 {
-        return Err(RunError::Input("--instances must be at least 1".into()));
+    if o.instances == 0 || o.instances > MAX_INSTANCES {
+        return Err(RunError::Input(format!(
+            "--instances {}: expected 1 to {MAX_INSTANCES}",
+            o.instances
+        )));
     }
     if o.chunk_size == 0 {
         return Err(RunError::Input("--chunk-size must be at least 1".into()));
