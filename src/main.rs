@@ -188,6 +188,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Check { campaign, set } => {
             let c = Campaign::load(&campaign, &set)?;
             montecarlo::check_statistics(&c)?;
+            if let Err(e) = c.check_overrides_not_dispersed(&set) {
+                println!("note: the nominal below uses the override, but `run` refuses it: {e}");
+            }
             print!("{}", cryoslosh::campaign::describe(&c));
             print!(
                 "{}",
@@ -345,6 +348,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             check_trust(&report)
         }
         Command::Init { path, force } => {
+            if path.is_dir() {
+                return Err(BadInput(format!(
+                    "{}: is a directory; name the campaign file to write",
+                    path.display()
+                ))
+                .into());
+            }
             match cryoslosh::campaign::template::write_template(&path, force) {
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(BadInput(format!(
                     "{}: the file exists; pass --force to overwrite it",

@@ -335,3 +335,108 @@ fn a_closed_pipe_ends_quietly() {
     let e = stderr(&o);
     assert!(!e.contains("panicked"), "{e}");
 }
+
+/// A reviewer's attack: one key dispersed under two spellings (one sample silently overwrote the
+/// other), distribution and excitation parameters that do not apply (silently ignored, and the
+/// refusal message recommended one), tolerance levels written as fractions, a threshold with
+/// neither side, a valve reseating where it cracks. Each now exits 2 naming the key.
+#[test]
+fn spellings_unused_parameters_and_fraction_levels_are_refused() {
+    let dir = scratch("spellings");
+    std::fs::create_dir_all(&dir).unwrap();
+    let lox = std::fs::read_to_string(campaign_path("lox_ascent")).unwrap();
+    let cases: [(String, &str); 6] = [
+        (
+            lox.replacen(
+                "key = \"feed.npsh_required_m\"",
+                "key = \"phases.1.thrust_n\"",
+                1,
+            ),
+            "dispersions.inputs.3.key",
+        ),
+        (
+            lox.replacen("lo = 240000.0", "lo = 240000.0\nmean = 1.0", 1),
+            "dispersions.inputs.2.mean",
+        ),
+        (
+            lox.replacen(
+                "duration_s = 120.0 }",
+                "duration_s = 120.0, start_s = 3.0 }",
+                1,
+            ),
+            "phases.1.excitation.start_s",
+        ),
+        (
+            lox.clone() + "\n[statistics]\ntolerance = [\"0.95/0.95\"]\n",
+            "statistics.tolerance.0",
+        ),
+        (
+            lox.clone()
+                + "\n[statistics]\n[[statistics.thresholds]]\nquantity = \"peak_pressure_pa\"\n",
+            "statistics.thresholds.0",
+        ),
+        (
+            lox.replacen("reseat_pa = 320000.0", "reseat_pa = 340000.0", 1),
+            "relief.reseat_pa",
+        ),
+    ];
+    for (i, (text, key)) in cases.iter().enumerate() {
+        let file = dir.join(format!("c{i}.toml"));
+        std::fs::write(&file, text).unwrap();
+        let o = cryoslosh(&["check", file.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{key}: {}", stderr(&o));
+        assert!(stderr(&o).contains(key), "{key}: {}", stderr(&o));
+    }
+    // The refusal of a --set on a dispersed key recommends a parameter that distribution takes.
+    let o = cryoslosh(&[
+        "run",
+        campaign_path("lox_ascent").to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+        "--set",
+        "pressurization.setpoint_pa=250000",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("dispersions.inputs.2.lo=…"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// Under the saltelli design the AB rows are near-copies of their A row: the distribution
+/// statistics use the A and B rows only (2 per group), the Sobol indices every row.
+#[test]
+fn saltelli_distribution_statistics_use_independent_rows() {
+    use cryoslosh::engine::{Backend, CpuEngine};
+    use cryoslosh::montecarlo::{self, statistics::find, RunOptions, Shard};
+    let c = common::load(
+        "mhtb_selfpress",
+        &["phases.0.duration_s=600", "dispersions.design=saltelli"],
+    );
+    let out = scratch("saltelli-iid");
+    let opts = RunOptions {
+        out_dir: out.clone(),
+        instances: 5 * 20,
+        seed: 3,
+        shard: Shard::ALL,
+        chunk_size: 64,
+        progress: false,
+        histories: Vec::new(),
+        until: None,
+        force: false,
+    };
+    let r = montecarlo::run(&c, &Backend::Cpu(CpuEngine::new(2).unwrap()), &opts).unwrap();
+    assert_eq!(
+        find(&r.statistics, "peak_pressure_pa", "p50").unwrap().n,
+        40
+    );
+    let sobol = r
+        .statistics
+        .iter()
+        .find(|x| x.stat.statistic == "sobol_first" && x.stat.quantity == "peak_pressure_pa")
+        .unwrap();
+    assert_eq!(sobol.stat.n, 20);
+    std::fs::remove_dir_all(out).ok();
+}

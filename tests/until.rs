@@ -49,11 +49,10 @@ fn until_stops_at_the_same_instance_for_any_threads_and_chunks() {
     assert_eq!(ra.instances, rb.instances);
     let stop = ra.instances;
     assert!(stop < 300 && stop.is_multiple_of(100), "stopped at {stop}");
-    assert!(
-        ra.until.as_deref().unwrap().contains("reached"),
-        "{:?}",
-        ra.until
-    );
+    let (_, json) = ra.until.clone().unwrap();
+    assert_eq!(json["reached"], true, "{json}");
+    assert_eq!(json["instances"], stop, "{json}");
+    assert!(json["half_width"].as_f64().unwrap() <= 0.00025, "{json}");
     for f in ["instances.parquet", "statistics.parquet"] {
         assert!(
             std::fs::read(a.join(f)).unwrap() == std::fs::read(b.join(f)).unwrap(),
@@ -89,10 +88,16 @@ fn until_that_cannot_be_met_runs_to_the_cap_and_says_so() {
     let dir = scratch("cap");
     let r = run(&dir, 2, 128, "peak_pressure_pa>115000:0.00001");
     assert_eq!(r.instances, 300);
-    assert!(
-        r.until.as_deref().unwrap().contains("NOT reached"),
-        "{:?}",
-        r.until
-    );
+    let (text, json) = r.until.clone().unwrap();
+    assert!(text.contains("NOT reached"), "{text}");
+    assert_eq!(json["reached"], false, "{json}");
+    // A quantity without values: said, not NaN.
+    let dir2 = scratch("novalue");
+    let r = run(&dir2, 2, 128, "min_cavitation_margin_m<0:0.1");
+    let (text, json) = r.until.clone().unwrap();
+    assert!(text.contains("no valid instance has a value"), "{text}");
+    assert!(!text.contains("NaN"), "{text}");
+    assert!(json["estimate"].is_null(), "{json}");
+    std::fs::remove_dir_all(dir2).ok();
     std::fs::remove_dir_all(dir).ok();
 }

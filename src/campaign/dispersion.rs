@@ -83,7 +83,46 @@ pub fn column_name(key: &str) -> String {
     key.replace('.', "_")
 }
 
+/// The parameters each distribution takes (any other one set is an error, not ignored).
+pub fn parameters(distribution: &str) -> &'static [&'static str] {
+    match distribution {
+        "normal" => &["mean", "std"],
+        "truncated_normal" => &["mean", "std", "lo", "hi"],
+        "uniform" => &["lo", "hi"],
+        "lognormal" => &["median", "sigma"],
+        "triangular" => &["lo", "mode", "hi"],
+        "choice" => &["values", "weights"],
+        _ => &[],
+    }
+}
+
 fn distribution(c: &Checker, base: &str, r: &RawInput) -> Result<Distribution, CampaignError> {
+    let set = [
+        ("mean", r.mean.is_some()),
+        ("std", r.std.is_some()),
+        ("lo", r.lo.is_some()),
+        ("hi", r.hi.is_some()),
+        ("mode", r.mode.is_some()),
+        ("median", r.median.is_some()),
+        ("sigma", r.sigma.is_some()),
+        ("values", r.values.is_some()),
+        ("weights", r.weights.is_some()),
+    ];
+    let takes = parameters(&r.distribution);
+    if !takes.is_empty() {
+        if let Some((name, _)) = set.iter().find(|(n, on)| *on && !takes.contains(n)) {
+            return Err(c.table_err(
+                &format!("{base}.{name}"),
+                "(set)",
+                format!(
+                    "no {name}: the {} distribution takes {} (a parameter it does not use \
+                     would be silently ignored)",
+                    r.distribution,
+                    takes.join(", ")
+                ),
+            ));
+        }
+    }
     let need = |name: &str, v: Option<f64>| {
         v.ok_or_else(|| {
             c.table_err(
@@ -143,6 +182,7 @@ pub(super) fn validate(
     c: &Checker,
     raw: &RawDispersions,
     known_scalar: impl Fn(&str) -> bool,
+    canonical: impl Fn(&str) -> String,
 ) -> Result<Dispersions, CampaignError> {
     let design_name = raw.design.as_deref().unwrap_or("monte_carlo");
     let design = Design::from_name(design_name).ok_or_else(|| {
@@ -178,8 +218,19 @@ pub(super) fn validate(
                 "a physical input (not a campaign.* or dispersions.* setting)",
             ));
         }
-        if inputs.iter().any(|x| x.key == r.key) {
-            return Err(c.table_err(&format!("{base}.key"), &r.key, "each key dispersed once"));
+        // One key, however spelled (a phase by index or by name), is dispersed once.
+        if let Some(j) = inputs
+            .iter()
+            .position(|x| canonical(&x.key) == canonical(&r.key))
+        {
+            return Err(c.table_err(
+                &format!("{base}.key"),
+                &r.key,
+                format!(
+                    "each key dispersed once (dispersions.inputs.{j} disperses it as {})",
+                    inputs[j].key
+                ),
+            ));
         }
         let dist = distribution(c, &base, r)?;
         dist.validate().map_err(|e| CampaignError::Distribution {

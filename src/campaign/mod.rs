@@ -180,7 +180,12 @@ impl Campaign {
         doc.remove("statistics");
         let checker = validate::Checker { file: path };
         if let Some(d) = &raw.dispersions {
-            c.dispersions = dispersion::validate(&checker, d, |key| is_numeric_key(&doc, key))?;
+            c.dispersions = dispersion::validate(
+                &checker,
+                d,
+                |key| is_numeric_key(&doc, key),
+                |key| canonical_key(&doc, key),
+            )?;
         }
         c.statistics = statistics::validate(
             &checker,
@@ -208,11 +213,16 @@ impl Campaign {
                 return Err(CampaignError::Override {
                     file: self.path.clone(),
                     key: key.to_string(),
-                    message: format!(
-                        "the key is dispersed by dispersions.inputs.{j}: every instance \
-                         overwrites it with its sample; set that entry's parameters instead \
-                         (e.g. --set dispersions.inputs.{j}.mean=…)"
-                    ),
+                    message: {
+                        let input = &self.dispersions.inputs[j];
+                        let kind = input.distribution.name();
+                        let first = dispersion::parameters(kind).first().copied().unwrap_or("…");
+                        format!(
+                            "the key is dispersed by dispersions.inputs.{j} ({kind}): every \
+                             instance overwrites it with its sample; set that entry's parameters \
+                             instead (e.g. --set dispersions.inputs.{j}.{first}=…)"
+                        )
+                    },
                 });
             }
         }

@@ -147,7 +147,8 @@ pub fn quantile_name(p: f64) -> String {
 fn parse_tolerance(s: &str) -> Option<(f64, f64)> {
     let (a, b) = s.split_once('/')?;
     let (a, b): (f64, f64) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
-    let ok = |x: f64| x > 0.0 && x < 100.0;
+    // Percent, not fractions: "0.95/0.95" would mean 0.95 % coverage.
+    let ok = |x: f64| (50.0..100.0).contains(&x);
     (ok(a) && ok(b)).then_some((a / 100.0, b / 100.0))
 }
 
@@ -163,9 +164,14 @@ fn side(
         (None, Some(v)) if v.is_finite() => Ok((Side::Below, v)),
         (Some(v), None) => Err(c.table_err(&format!("{key}.above"), v, "a finite number")),
         (None, Some(v)) => Err(c.table_err(&format!("{key}.below"), v, "a finite number")),
-        _ => Err(c.table_err(
+        (Some(_), Some(_)) => Err(c.table_err(
             key,
-            "(above and below)",
+            "(both above and below)",
+            "exactly one of above = X or below = X",
+        )),
+        (None, None) => Err(c.table_err(
+            key,
+            "(neither above nor below)",
             "exactly one of above = X or below = X",
         )),
     }
@@ -215,7 +221,7 @@ pub(super) fn validate(
                     c.table_err(
                         &format!("statistics.tolerance.{i}"),
                         format!("{s:?}"),
-                        "\"coverage/confidence\" in percent, e.g. \"95/95\" or \"99/90\"",
+                        "\"coverage/confidence\" in percent, each in [50, 100), e.g. \"95/95\" or \"99/90\"",
                     )
                 })
             })
@@ -327,7 +333,13 @@ pub(super) fn validate(
 /// The section as `check` prints it.
 pub fn describe(p: &StatisticsPlan) -> String {
     use super::number;
-    let list = |v: &[f64]| v.iter().map(|x| number(*x)).collect::<Vec<_>>().join(", ");
+    let list = |v: &[f64]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter().map(|x| number(*x)).collect::<Vec<_>>().join(", ")
+        }
+    };
     let tol: Vec<String> = p
         .tolerance
         .iter()
@@ -338,7 +350,11 @@ pub fn describe(p: &StatisticsPlan) -> String {
          max_rejected_fraction {}, max_diverged_fraction {}\n",
         number(p.confidence),
         list(&p.quantiles),
-        tol.join(", "),
+        if tol.is_empty() {
+            "none".to_string()
+        } else {
+            tol.join(", ")
+        },
         p.bootstrap,
         number(p.max_rejected_fraction),
         number(p.max_diverged_fraction)
@@ -473,5 +489,6 @@ mod tests {
         assert_eq!(parse_tolerance(" 99 / 90 "), Some((0.99, 0.9)));
         assert_eq!(parse_tolerance("95"), None);
         assert_eq!(parse_tolerance("100/95"), None);
+        assert_eq!(parse_tolerance("0.95/0.95"), None);
     }
 }

@@ -422,7 +422,16 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
             }
             Ok(Relief {
                 crack_pa: crack,
-                reseat_pa: c.range("relief.reseat_pa", r.reseat_pa, 0.0, crack)?,
+                reseat_pa: if r.reseat_pa < crack {
+                    c.range("relief.reseat_pa", r.reseat_pa, 0.0, crack)?
+                } else {
+                    // A valve that reseats where it cracks would chatter every step.
+                    return Err(c.err(
+                        "relief.reseat_pa",
+                        number(r.reseat_pa),
+                        format!("below relief.crack_pa = {}", number(crack)),
+                    ));
+                },
                 flow_area_m2: c.positive("relief.flow_area_m2", r.flow_area_m2, 10.0)?,
             })
         })
@@ -525,7 +534,10 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         phases,
         output_interval_s,
         stepping,
-        instances: run.instances.unwrap_or(1000),
+        instances: match run.instances.unwrap_or(1000) {
+            n @ 1..=1_000_000_000_000 => n,
+            n => return Err(c.err("campaign.instances", n, "an integer in [1, 1e12]")),
+        },
         seed: run.seed.unwrap_or(0),
         initial_slosh_angle_rad: initial_angle_rad,
         dispersions: super::dispersion::Dispersions::default(),
@@ -663,6 +675,38 @@ fn excitation(
     dir: &Path,
 ) -> Result<Excitation, CampaignError> {
     let key = |k: &str| format!("{base}.{k}");
+    // A parameter the kind does not use is an error, not silently ignored (a gust's
+    // frequency_hz, a table's amplitude).
+    let takes: &[&str] = match e.kind.as_str() {
+        "step" => &["amplitude_m_s2", "start_s"],
+        "ramp" | "gust" => &["amplitude_m_s2", "start_s", "duration_s"],
+        "sine" => &["amplitude_m_s2", "frequency_hz", "phase_rad"],
+        "sweep" => &["amplitude_m_s2", "f_start_hz", "f_end_hz", "duration_s"],
+        "table" => &["file"],
+        _ => &[],
+    };
+    let set = [
+        ("amplitude_m_s2", e.amplitude_m_s2.is_some()),
+        ("frequency_hz", e.frequency_hz.is_some()),
+        ("phase_rad", e.phase_rad.is_some()),
+        ("start_s", e.start_s.is_some()),
+        ("duration_s", e.duration_s.is_some()),
+        ("f_start_hz", e.f_start_hz.is_some()),
+        ("f_end_hz", e.f_end_hz.is_some()),
+        ("file", e.file.is_some()),
+    ];
+    if let Some((name, _)) = set.iter().find(|(n, on)| *on && !takes.contains(n)) {
+        let uses = if takes.is_empty() {
+            "no parameters".to_string()
+        } else {
+            takes.join(", ")
+        };
+        return Err(c.err(
+            &key(name),
+            "(set)",
+            format!("no {name}: a {} excitation takes {uses}", e.kind),
+        ));
+    }
     let amp = |c: &Checker| {
         c.range(
             &key("amplitude_m_s2"),

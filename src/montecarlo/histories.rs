@@ -70,8 +70,9 @@ pub fn check(picks: &[Pick], range: &std::ops::Range<u64>) -> Result<(), RunErro
         if let Pick::Instance(i) = p {
             if !range.contains(i) {
                 return Err(RunError::Input(format!(
-                    "--histories instance:{i}: this run holds instances {}..{}",
-                    range.start, range.end
+                    "--histories instance:{i}: this run holds instances {} to {}",
+                    range.start,
+                    range.end.saturating_sub(1)
                 )));
             }
         }
@@ -79,13 +80,20 @@ pub fn check(picks: &[Pick], range: &std::ops::Range<u64>) -> Result<(), RunErro
     Ok(())
 }
 
-/// The instances the picks name in the run's `instances.parquet`, ascending, without repeats.
-pub fn select(picks: &[Pick], instances_file: &Path) -> Result<Vec<u64>, RunError> {
+/// The instances the picks name in the run's `instances.parquet`, ascending, without repeats
+/// (an `instance:I` the file does not hold, e.g. past where `--until` stopped, is left out),
+/// and a note for each `worst:` pick that found fewer instances with a value than asked.
+pub fn select(picks: &[Pick], instances_file: &Path) -> Result<(Vec<u64>, Vec<String>), RunError> {
     let ids = table::read_u64(instances_file, "instance")?;
     let mut chosen = Vec::new();
+    let mut notes = Vec::new();
     for p in picks {
         match p {
-            Pick::Instance(i) => chosen.push(*i),
+            Pick::Instance(i) => {
+                if ids.contains(i) {
+                    chosen.push(*i);
+                }
+            }
             Pick::Worst { quantity, n } => {
                 let values = table::read_f64(instances_file, quantity)?;
                 let mut rows: Vec<usize> = (0..values.len())
@@ -97,13 +105,19 @@ pub fn select(picks: &[Pick], instances_file: &Path) -> Result<Vec<u64>, RunErro
                     let order = if smallest { order } else { order.reverse() };
                     order.then(ids[a].cmp(&ids[b]))
                 });
+                if rows.len() < *n as usize {
+                    notes.push(format!(
+                        "worst {n} of {quantity}: only {} valid instances have a value",
+                        rows.len()
+                    ));
+                }
                 chosen.extend(rows.iter().take(*n as usize).map(|&r| ids[r]));
             }
         }
     }
     chosen.sort_unstable();
     chosen.dedup();
-    Ok(chosen)
+    Ok((chosen, notes))
 }
 
 /// File of instance `i`'s history under `dir/histories`.
@@ -112,9 +126,35 @@ pub fn history_path(dir: &Path, i: u64) -> PathBuf {
         .join(format!("instance_{i:09}.parquet"))
 }
 
+/// What `--histories` did: per instance named or chosen, the file written or why none was.
+pub fn outcome(picks: &[Pick], chosen: &[u64], written: &[(u64, Option<PathBuf>)]) -> Vec<String> {
+    let mut notes: Vec<String> = written
+        .iter()
+        .map(|(i, file)| match file {
+            Some(f) => format!("instance {i}: {}", f.display()),
+            None => format!("instance {i}: rejected, no history"),
+        })
+        .collect();
+    for p in picks {
+        match p {
+            Pick::Instance(i) if !chosen.contains(i) => {
+                notes.push(format!(
+                    "instance {i}: not in this run (it stopped earlier)"
+                ));
+            }
+            _ => {}
+        }
+    }
+    notes
+}
+
 /// Integrate the chosen instances again with their histories and write one file each. Returns
-/// the files written.
-pub fn write(plan: &Plan, dir: &Path, instances: &[u64]) -> Result<Vec<PathBuf>, RunError> {
+/// per instance the file written (`None`: the instance was rejected, nothing to integrate).
+pub fn write(
+    plan: &Plan,
+    dir: &Path,
+    instances: &[u64],
+) -> Result<Vec<(u64, Option<PathBuf>)>, RunError> {
     if instances.is_empty() {
         return Ok(Vec::new());
     }
@@ -127,7 +167,8 @@ pub fn write(plan: &Plan, dir: &Path, instances: &[u64]) -> Result<Vec<PathBuf>,
     for &i in instances {
         let (_, resolved) = plan.resolve(i);
         let Ok(ci) = resolved else {
-            continue; // rejected: nothing to integrate
+            files.push((i, None)); // rejected: nothing to integrate
+            continue;
         };
         let mut ci: Campaign = ci.unwrap_or_else(|| plan.campaign.clone());
         ci.text = plan.campaign.text.clone();
@@ -140,7 +181,7 @@ pub fn write(plan: &Plan, dir: &Path, instances: &[u64]) -> Result<Vec<PathBuf>,
             .diverged
             .then(|| q.diverged_reason.clone().unwrap_or_default());
         crate::history::write_history(&path, &ci, &h, &i.to_string(), diverged.as_deref())?;
-        files.push(path);
+        files.push((i, Some(path)));
     }
     Ok(files)
 }

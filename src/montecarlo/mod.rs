@@ -109,8 +109,11 @@ pub struct RunReport {
     /// The shares above which the run is not trusted (exit code 3).
     pub max_rejected_fraction: f64,
     pub max_diverged_fraction: f64,
-    /// A precision-driven run: the estimate, its interval and whether the target was reached.
-    pub until: Option<String>,
+    /// A precision-driven run: the summary line and `run.json`'s record of the estimate, its
+    /// interval and whether the target was reached.
+    pub until: Option<(String, serde_json::Value)>,
+    /// What `--histories` wrote (or why not), per instance.
+    pub histories: Vec<String>,
     pub statistics: Vec<Row>,
 }
 
@@ -448,9 +451,17 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     failpoint("after-instances");
     let rows = finish_statistics(c, &dir, total, o.seed, full, meta)?;
     failpoint("after-statistics");
+    let mut history_notes = Vec::new();
     if !o.histories.is_empty() {
-        let chosen = histories::select(&o.histories, &inst_path)?;
-        histories::write(&plan, &dir, &chosen)?;
+        let (chosen, select_notes) = histories::select(&o.histories, &inst_path)?;
+        let written = histories::write(&plan, &dir, &chosen)?;
+        // Paths as they will be once the directory is published.
+        let published: Vec<(u64, Option<PathBuf>)> = written
+            .into_iter()
+            .map(|(i, f)| (i, f.map(|_| histories::history_path(&o.out_dir, i))))
+            .collect();
+        history_notes = histories::outcome(&o.histories, &chosen, &published);
+        history_notes.extend(select_notes);
     }
     let report = RunReport {
         instances: stop_at - range.start,
@@ -472,7 +483,8 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         dispersed: !c.dispersions.inputs.is_empty(),
         max_rejected_fraction: c.statistics.max_rejected_fraction,
         max_diverged_fraction: c.statistics.max_diverged_fraction,
-        until: stopper.as_ref().map(until::Stopper::describe),
+        until: stopper.as_ref().map(|s| (s.describe(), s.to_json())),
+        histories: history_notes,
         statistics: rows,
     };
     write_run_json(&dir, &report, total)?;
@@ -538,7 +550,8 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "integrator": r.integrator,
         "rejected_by": r.rejected_by.iter().map(|(k, n)| (k.clone(), serde_json::json!(n))).collect::<serde_json::Map<_, _>>(),
         "untrusted": r.untrusted(),
-        "until": r.until,
+        "until": r.until.as_ref().map(|(_, json)| json),
+        "histories": r.histories,
         "version": crate::VERSION,
     });
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
@@ -560,6 +573,9 @@ fn meta_value<'a>(meta: &'a [(String, String)], key: &str) -> Option<&'a str> {
 
 fn read_shard(dir: &Path) -> Result<ShardDir, RunError> {
     let bad = |why: String| RunError::Input(format!("{}: {why}", dir.display()));
+    if !dir.join("instances.parquet").is_file() {
+        return Err(bad("not a results directory (no instances.parquet)".into()));
+    }
     let meta = table::read_metadata(&dir.join("instances.parquet"))?;
     let shard = meta_value(&meta, "cryoslosh.shard")
         .and_then(Shard::parse)
@@ -698,7 +714,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
             .map(|s| s.run["wall_s"].as_f64().unwrap_or(0.0))
             .sum(),
         backend: first.run["backend"].as_str().unwrap_or("cpu").into(),
-        device: format!("merged from {count} shards"),
+        device: format!("{count} shards (merged)"),
         threads: shards
             .iter()
             .map(|s| s.run["threads"].as_u64().unwrap_or(0) as usize)
@@ -721,6 +737,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         max_rejected_fraction: c.statistics.max_rejected_fraction,
         max_diverged_fraction: c.statistics.max_diverged_fraction,
         until: None,
+        histories: Vec::new(),
         statistics: stats,
     };
     write_run_json(&dir, &report, total)?;

@@ -23,6 +23,12 @@ pub struct RunCampaign {
 /// Read the campaign of the run in `dir` from its `instances.parquet` metadata.
 pub fn run_campaign(dir: &Path) -> Result<RunCampaign, RunError> {
     let path = dir.join("instances.parquet");
+    if !path.is_file() {
+        return Err(RunError::Input(format!(
+            "--run {}: not a results directory (no instances.parquet)",
+            dir.display()
+        )));
+    }
     let meta = table::read_metadata(&path)?;
     let get = |key: &str| {
         meta.iter()

@@ -180,14 +180,37 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
     let d = &spec.dispersions;
     let diverged = read_bool(path, "diverged")?;
     let rejected = read_bool(path, "rejected")?;
+    // Under the saltelli design the AB rows repeat the A row but for one input: as draws of the
+    // population they are near-copies, so the distribution, probabilities and rank correlations
+    // use the independent A and B rows only (the Sobol indices use every row).
+    let k = d.inputs.len();
+    let independent = |i: usize| {
+        d.design != Design::Saltelli
+            || matches!(
+                saltelli_layout(i as u64, k).1,
+                SaltelliRow::A | SaltelliRow::B
+            )
+    };
     let valid: Vec<bool> = diverged
         .iter()
         .zip(&rejected)
-        .map(|(d, r)| !d && !r)
+        .enumerate()
+        .map(|(i, (d, r))| !d && !r && independent(i))
         .collect();
     let keep = |v: Vec<f64>| -> Vec<f64> {
         v.into_iter()
             .zip(&valid)
+            .map(|(x, &ok)| if ok { x } else { f64::NAN })
+            .collect()
+    };
+    let all_valid: Vec<bool> = diverged
+        .iter()
+        .zip(&rejected)
+        .map(|(d, r)| !d && !r)
+        .collect();
+    let keep_all = |v: Vec<f64>| -> Vec<f64> {
+        v.into_iter()
+            .zip(&all_valid)
             .map(|(x, &ok)| if ok { x } else { f64::NAN })
             .collect()
     };
@@ -278,7 +301,7 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
     }
     if d.design == Design::Saltelli && !d.inputs.is_empty() {
         for &q in &analysed {
-            rows.extend(sobol_rows(q, &keep(read_f64(path, q)?), spec));
+            rows.extend(sobol_rows(q, &keep_all(read_f64(path, q)?), spec));
         }
     }
     Ok(rows)

@@ -6,12 +6,26 @@ use super::RunReport;
 use crate::campaign::statistics::quantile_name;
 use std::fmt::Write;
 
-/// A value as the summary prints it: `digits` decimals, "–" for a missing one.
+/// A value as the summary prints it: `digits` decimals, "–" for a missing one, never "-0.00".
 fn num(v: f64, digits: usize) -> String {
     if v.is_finite() {
-        format!("{v:.digits$}")
+        let s = format!("{v:.digits$}");
+        match s.strip_prefix('-') {
+            Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+            _ => s,
+        }
     } else {
         "–".into()
+    }
+}
+
+/// A correlation with its sign, two decimals ("+0.00", never "-0.00").
+fn signed(v: f64) -> String {
+    let s = num(v, 2);
+    if s.starts_with('-') || s == "–" {
+        s
+    } else {
+        format!("+{s}")
     }
 }
 
@@ -40,8 +54,8 @@ fn tolerance(rows: &[Row], q: &str, side: &str, digits: usize) -> String {
         .map(|r| {
             let level = format!(
                 "{}/{}",
-                num(100.0 * r.probability, 0),
-                num(100.0 * r.confidence, 0)
+                crate::campaign::number(100.0 * r.probability),
+                crate::campaign::number(100.0 * r.confidence)
             );
             if r.stat.value.is_finite() {
                 format!("{level} {side} bound {}", num(r.stat.value, digits))
@@ -70,8 +84,9 @@ fn probability(r: &Row) -> String {
 pub fn summary_text(r: &RunReport) -> String {
     let s = &r.statistics;
     let mut out = format!(
-        "{} instances ({} diverged, {} rejected), {} instance-steps in {:.2} s = {:.3e} instance-steps/s on {}\n",
+        "{} instance{} ({} diverged, {} rejected), {} instance-steps in {:.2} s = {:.3e} instance-steps/s on {}\n",
         r.instances,
+        if r.instances == 1 { "" } else { "s" },
         r.diverged,
         r.rejected,
         r.instance_steps,
@@ -82,8 +97,11 @@ pub fn summary_text(r: &RunReport) -> String {
     if !r.dispersed {
         out += "note: the campaign has no [dispersions]: every instance is the nominal\n";
     }
-    if let Some(u) = &r.until {
+    if let Some((u, json)) = &r.until {
         let _ = writeln!(out, "until              {u}");
+        if json["reached"] == false {
+            out += "warning: the precision target was not reached: raise --instances or relax it\n";
+        }
     }
     if !r.rejected_by.is_empty() {
         let list: Vec<String> = r
@@ -106,12 +124,24 @@ pub fn summary_text(r: &RunReport) -> String {
         })
     };
     let prob = |q: &str, st: &str| find_row(s, q, st).map_or_else(String::new, probability);
+    // "p50 X unit  p99 X [lo, hi] unit  max X unit": the pieces the campaign's quantiles have.
+    let pieces = |q: &str, ps: &[f64], extreme: &str, digits: usize, unit: &str| {
+        let mut v: Vec<String> = ps
+            .iter()
+            .map(|&p| quantile(q, p, digits))
+            .filter(|x| !x.is_empty())
+            .map(|x| format!("{x} {unit}"))
+            .collect();
+        v.push(format!(
+            "{extreme} {} {unit}",
+            num(stat(q, extreme), digits)
+        ));
+        v.join("  ")
+    };
     let _ = writeln!(
         out,
-        "peak pressure      p50 {} Pa  {} Pa  max {} Pa; above MEOP: {}",
-        num(stat("peak_pressure_pa", "p50"), 0),
-        quantile("peak_pressure_pa", 0.99, 0),
-        num(stat("peak_pressure_pa", "max"), 0),
+        "peak pressure      {}; above MEOP: {}",
+        pieces("peak_pressure_pa", &[0.5, 0.99], "max", 0, "Pa"),
         prob("peak_pressure_pa", "prob_exceed")
     );
     let tol = tolerance(s, "peak_pressure_pa", "upper", 0);
@@ -121,10 +151,8 @@ pub fn summary_text(r: &RunReport) -> String {
     if find(s, "min_cavitation_margin_m", "mean").is_some_and(|x| x.n > 0) {
         let _ = writeln!(
             out,
-            "cavitation margin  {} m  p50 {} m  min {} m; below 0: {}",
-            quantile("min_cavitation_margin_m", 0.01, 3),
-            num(stat("min_cavitation_margin_m", "p50"), 3),
-            num(stat("min_cavitation_margin_m", "min"), 3),
+            "cavitation margin  {}; below 0: {}",
+            pieces("min_cavitation_margin_m", &[0.01, 0.5], "min", 3, "m"),
             prob("min_cavitation_margin_m", "prob_below")
         );
         let tol = tolerance(s, "min_cavitation_margin_m", "lower", 3);
@@ -137,16 +165,14 @@ pub fn summary_text(r: &RunReport) -> String {
     });
     let _ = writeln!(
         out,
-        "boil-off           p50 {} kg  {} kg{budget}",
-        num(stat("boiloff_kg", "p50"), 4),
-        quantile("boiloff_kg", 0.99, 4),
+        "boil-off           {}{budget}",
+        pieces("boiloff_kg", &[0.5, 0.99], "max", 4, "kg"),
     );
     let _ = writeln!(
         out,
-        "vented             p50 {} kg  p99 {} kg;  max slosh angle p99 {} rad",
-        num(stat("vented_kg", "p50"), 4),
-        num(stat("vented_kg", "p99"), 4),
-        num(stat("max_slosh_angle_rad", "p99"), 4)
+        "vented             {};  max slosh angle {} rad",
+        pieces("vented_kg", &[0.5, 0.99], "max", 4, "kg"),
+        num(stat("max_slosh_angle_rad", "max"), 4)
     );
     // The campaign's own thresholds (the three above are printed with their margins).
     let shown = |q: &str| {
@@ -194,6 +220,9 @@ pub fn summary_text(r: &RunReport) -> String {
         }
     }
     drivers(&mut out, r);
+    for note in &r.histories {
+        let _ = writeln!(out, "history            {note}");
+    }
     out
 }
 
@@ -229,8 +258,11 @@ fn drivers(out: &mut String, r: &RunReport) {
                 .take(3)
                 .map(|d| {
                     format!(
-                        "{} {:+.2} [{:+.2}, {:+.2}]",
-                        d.input, d.stat.value, d.stat.ci_low, d.stat.ci_high
+                        "{} {} [{}, {}]",
+                        d.input,
+                        signed(d.stat.value),
+                        signed(d.stat.ci_low),
+                        signed(d.stat.ci_high)
                     )
                 })
                 .collect();

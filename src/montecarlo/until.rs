@@ -151,6 +151,13 @@ impl Stopper {
             }
         };
         let p = self.last.clone().unwrap_or_else(|| self.progress());
+        if p.n == 0 {
+            return format!(
+                "{what}: no valid instance has a value of it in {} instances: the target cannot \
+                 be reached (is the quantity ever defined in this mission?)",
+                p.instances
+            );
+        }
         let verdict = if p.met {
             format!(
                 "reached ±{} after {} instances",
@@ -162,9 +169,48 @@ impl Stopper {
                 self.target.half_width, p.instances
             )
         };
+        let bound = |v: f64| {
+            if v.is_finite() {
+                format!("{v:.6}")
+            } else {
+                "none yet".into()
+            }
+        };
+        let half = if p.half_width.is_finite() {
+            format!("±{:.3e}", p.half_width)
+        } else {
+            "a bound does not exist yet".into()
+        };
         format!(
-            "{what} = {:.6} [{:.6}, {:.6}] (±{:.3e}, n {}): precision {verdict}",
-            p.estimate, p.ci_low, p.ci_high, p.half_width, p.n
+            "{what} = {:.6} [{}, {}] ({half}, n {}): precision {verdict}",
+            p.estimate,
+            bound(p.ci_low),
+            bound(p.ci_high),
+            p.n
         )
+    }
+
+    /// The outcome as `run.json` records it: the estimate, its interval, the half-width asked
+    /// and reached, and the instances used (non-finite values are nulls).
+    pub fn to_json(&self) -> serde_json::Value {
+        let p = self.last.clone().unwrap_or_else(|| self.progress());
+        let f = |v: f64| {
+            if v.is_finite() {
+                serde_json::json!(v)
+            } else {
+                serde_json::Value::Null
+            }
+        };
+        serde_json::json!({
+            "text": self.describe(),
+            "estimate": f(p.estimate),
+            "ci_low": f(p.ci_low),
+            "ci_high": f(p.ci_high),
+            "half_width": f(p.half_width),
+            "target_half_width": self.target.half_width,
+            "reached": p.met,
+            "instances": p.instances,
+            "n": p.n,
+        })
     }
 }

@@ -362,6 +362,21 @@ impl Distribution {
 /// The campaign's spelling: the `distribution` kind with its parameters under their key names,
 /// e.g. `truncated_normal(mean 150, std 25, lo 80, hi 250)`, `lognormal(median 0.3, sigma 0.4)`,
 /// `choice(2, 3, 4; weights 1, 2, 1)` (numbers as [`crate::campaign::number`] writes them).
+impl Distribution {
+    /// The campaign spelling of the kind: `normal`, `truncated_normal`, `uniform`, `lognormal`,
+    /// `triangular` or `choice`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Distribution::Normal { .. } => "normal",
+            Distribution::TruncatedNormal { .. } => "truncated_normal",
+            Distribution::Uniform { .. } => "uniform",
+            Distribution::LogNormal { .. } => "lognormal",
+            Distribution::Triangular { .. } => "triangular",
+            Distribution::Choice { .. } => "choice",
+        }
+    }
+}
+
 impl std::fmt::Display for Distribution {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         use crate::campaign::number as n;
