@@ -68,6 +68,12 @@ for q in ["peak_pressure_pa", "boiloff_kg"]:
         int((pdf[q] > x).sum()),
     )
     assert len(set(counts)) == 1, (q, counts)
+# Outcome flags of rejected rows are nulls too, so avg(overpressure) agrees with the statistics.
+bad = pldf.filter(pl.col("rejected") | pl.col("diverged"))
+for flag in ["cavitation", "overpressure", "pressurant_exhausted", "depleted", "slosh_out_of_range"]:
+    assert bad[flag].null_count() == bad.height, (flag, bad[flag].null_count(), bad.height)
+    assert pldf[flag].null_count() == bad.height, flag
+assert pldf["rejected"].null_count() == 0 and pldf["diverged"].null_count() == 0
 # "No input" is a null, not an empty string.
 plain = stats.filter(pl.col("statistic") == "mean")
 assert plain["input"].null_count() == plain.height

@@ -124,7 +124,7 @@ pub fn compare_row(
             FLAGS
                 .iter()
                 .copied()
-                .zip(flags.map(|f| f64::from(u8::from(f)))),
+                .zip(flags.map(|f| f.map_or(f64::NAN, |b| f64::from(u8::from(b))))),
         );
     let mut diffs = Vec::new();
     for (name, value) in replayed {

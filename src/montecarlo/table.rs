@@ -76,8 +76,8 @@ pub const FLAGS: [&str; 7] = [
 
 /// What a row of instances.parquet holds for `r` after its inputs: the [`QOI_F64`] values (NaN
 /// = null), the [`COUNTS`] and the [`FLAGS`]. A rejected or diverged instance has no QoIs, except
-/// the time it reached.
-pub fn row_values(r: &InstanceRecord) -> (Vec<f64>, [u64; 2], [bool; 7]) {
+/// the time it reached, and its outcome flags are null.
+pub fn row_values(r: &InstanceRecord) -> (Vec<f64>, [u64; 2], [Option<bool>; 7]) {
     let q = &r.summary;
     let invalid = r.rejected || q.diverged;
     let qois = QOI_F64
@@ -91,14 +91,15 @@ pub fn row_values(r: &InstanceRecord) -> (Vec<f64>, [u64; 2], [bool; 7]) {
         })
         .collect();
     let counts = [COUNTS[0].1(q), COUNTS[1].1(q)];
+    let outcome = |v: bool| (!invalid).then_some(v);
     let flags = [
-        q.cavitation,
-        q.overpressure,
-        q.pressurant_exhausted,
-        q.depleted,
-        q.slosh_out_of_range,
-        q.diverged,
-        r.rejected,
+        outcome(q.cavitation),
+        outcome(q.overpressure),
+        outcome(q.pressurant_exhausted),
+        outcome(q.depleted),
+        outcome(q.slosh_out_of_range),
+        Some(q.diverged),
+        Some(r.rejected),
     ];
     (qois, counts, flags)
 }
@@ -108,7 +109,8 @@ pub fn row_values(r: &InstanceRecord) -> (Vec<f64>, [u64; 2], [bool; 7]) {
 enum Buf {
     F64(Vec<f64>),
     U64(Vec<u64>),
-    Bool(Vec<bool>),
+    /// A flag; `None` is null (an outcome flag of a rejected or diverged instance).
+    Bool(Vec<Option<bool>>),
 }
 
 /// The schema: `instance`, the dispersed inputs, the f64 QoIs, `steps`, the flags.
@@ -129,7 +131,15 @@ pub fn schema(input_columns: &[String]) -> Vec<ColumnSpec> {
             .iter()
             .map(|(n, _)| ColumnSpec::new(*n, ColumnKind::U64)),
     );
-    specs.extend(FLAGS.iter().map(|n| ColumnSpec::new(*n, ColumnKind::Bool)));
+    // Outcome flags are null where the instance has no outcome (rejected or diverged); the
+    // validity flags themselves always have a value.
+    specs.extend(FLAGS.iter().map(|n| {
+        if matches!(*n, "diverged" | "rejected") {
+            ColumnSpec::new(*n, ColumnKind::Bool)
+        } else {
+            ColumnSpec::optional(*n, ColumnKind::Bool)
+        }
+    }));
     specs
 }
 
@@ -180,7 +190,7 @@ impl InstanceWriter {
             match b {
                 Buf::U64(v) => v.push(u64s.next().unwrap_or(0)),
                 Buf::F64(v) => v.push(f64s.next().unwrap_or(f64::NAN)),
-                Buf::Bool(v) => v.push(*flag.next().unwrap_or(&false)),
+                Buf::Bool(v) => v.push(flag.next().copied().flatten()),
             }
         }
         if self.rows() >= ROW_GROUP_ROWS {
@@ -221,7 +231,7 @@ impl InstanceWriter {
                 .map(|b| match b {
                     Buf::F64(v) => ColumnData::F64(&v[..n]),
                     Buf::U64(v) => ColumnData::U64(&v[..n]),
-                    Buf::Bool(v) => ColumnData::Bool(&v[..n]),
+                    Buf::Bool(v) => ColumnData::OptBool(&v[..n]),
                 })
                 .collect();
             self.writer.write_chunk(&data)?;
@@ -322,7 +332,7 @@ fn append_array(out: &mut Option<Buf>, col: &dyn Array) {
         }
     } else if let Some(a) = any.downcast_ref::<BooleanArray>() {
         if let Buf::Bool(v) = out.get_or_insert(Buf::Bool(Vec::new())) {
-            v.extend((0..a.len()).map(|i| a.value(i)));
+            v.extend(a.iter());
         }
     }
 }
@@ -359,14 +369,17 @@ pub fn read_f64(path: &Path, name: &str) -> Result<Vec<f64>, ReadError> {
     match read_column(path, name)? {
         Buf::F64(v) => Ok(v),
         Buf::U64(v) => Ok(v.into_iter().map(|x| x as f64).collect()),
-        Buf::Bool(v) => Ok(v.into_iter().map(|x| f64::from(u8::from(x))).collect()),
+        Buf::Bool(v) => Ok(v
+            .into_iter()
+            .map(|x| x.map_or(f64::NAN, |b| f64::from(u8::from(b))))
+            .collect()),
     }
 }
 
 /// A bool column of an instances file.
 pub fn read_bool(path: &Path, name: &str) -> Result<Vec<bool>, ReadError> {
     match read_column(path, name)? {
-        Buf::Bool(v) => Ok(v),
+        Buf::Bool(v) => Ok(v.into_iter().map(|x| x.unwrap_or(false)).collect()),
         Buf::F64(v) => Ok(v.into_iter().map(|x| x != 0.0).collect()),
         Buf::U64(v) => Ok(v.into_iter().map(|x| x != 0).collect()),
     }
@@ -377,7 +390,10 @@ pub fn read_u64(path: &Path, name: &str) -> Result<Vec<u64>, ReadError> {
     match read_column(path, name)? {
         Buf::U64(v) => Ok(v),
         Buf::F64(v) => Ok(v.into_iter().map(|x| x as u64).collect()),
-        Buf::Bool(v) => Ok(v.into_iter().map(u64::from).collect()),
+        Buf::Bool(v) => Ok(v
+            .into_iter()
+            .map(|x| u64::from(x.unwrap_or(false)))
+            .collect()),
     }
 }
 

@@ -82,7 +82,8 @@ impl ColumnSpec {
         }
     }
 
-    /// A nullable column: NaN (F64) or an empty string (UTF-8) is written as null.
+    /// A nullable column: NaN (F64), an empty string (UTF-8) or `None` ([`ColumnData::OptBool`])
+    /// is written as null.
     pub fn optional(name: impl Into<String>, kind: ColumnKind) -> Self {
         ColumnSpec {
             nullable: true,
@@ -102,6 +103,8 @@ pub enum ColumnData<'a> {
     I32(&'a [i32]),
     /// Values of an [`ColumnKind::Bool`] column.
     Bool(&'a [bool]),
+    /// Values of a nullable [`ColumnKind::Bool`] column (`None` is null).
+    OptBool(&'a [Option<bool>]),
     /// Values of an [`ColumnKind::Utf8`] column.
     Utf8(&'a [String]),
 }
@@ -113,7 +116,7 @@ impl ColumnData<'_> {
             ColumnData::F64(_) => ColumnKind::F64,
             ColumnData::U64(_) => ColumnKind::U64,
             ColumnData::I32(_) => ColumnKind::I32,
-            ColumnData::Bool(_) => ColumnKind::Bool,
+            ColumnData::Bool(_) | ColumnData::OptBool(_) => ColumnKind::Bool,
             ColumnData::Utf8(_) => ColumnKind::Utf8,
         }
     }
@@ -125,6 +128,7 @@ impl ColumnData<'_> {
             ColumnData::U64(v) => v.len(),
             ColumnData::I32(v) => v.len(),
             ColumnData::Bool(v) => v.len(),
+            ColumnData::OptBool(v) => v.len(),
             ColumnData::Utf8(v) => v.len(),
         }
     }
@@ -151,6 +155,7 @@ impl ColumnData<'_> {
             ColumnData::U64(v) => Arc::new(UInt64Array::from(v.to_vec())),
             ColumnData::I32(v) => Arc::new(Int32Array::from(v.to_vec())),
             ColumnData::Bool(v) => Arc::new(BooleanArray::from(v.to_vec())),
+            ColumnData::OptBool(v) => Arc::new(BooleanArray::from(v.to_vec())),
             ColumnData::Utf8(v) => Arc::new(StringArray::from_iter_values(v)),
         }
     }
