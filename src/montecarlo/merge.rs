@@ -1,0 +1,279 @@
+//! `merge`: shard directories of one campaign → exactly what the unsharded run writes, after
+//! checking that the shards are of one campaign, cover it once, and hold what they declare.
+
+use super::table::{self, InstanceWriter};
+use super::{
+    finish_statistics, integrator_text, set_meta, tally, write_run_json, RunError, RunReport, Shard,
+};
+use crate::campaign::Campaign;
+use crate::output::results_dir::Staging;
+use std::path::{Path, PathBuf};
+
+/// One shard directory as read back for a merge.
+struct ShardDir {
+    dir: PathBuf,
+    shard: Shard,
+    meta: Vec<(String, String)>,
+    run: serde_json::Value,
+}
+
+fn meta_value<'a>(meta: &'a [(String, String)], key: &str) -> Option<&'a str> {
+    meta.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+}
+
+fn read_shard(dir: &Path) -> Result<ShardDir, RunError> {
+    let bad = |why: String| RunError::Input(format!("{}: {why}", dir.display()));
+    if !dir.join("instances.parquet").is_file() {
+        return Err(bad("not a results directory (no instances.parquet)".into()));
+    }
+    let meta = table::read_metadata(&dir.join("instances.parquet"))?;
+    let shard = meta_value(&meta, "cryoslosh.shard")
+        .and_then(Shard::parse)
+        .ok_or_else(|| bad("instances.parquet has no valid cryoslosh.shard metadata".into()))?;
+    let text = std::fs::read_to_string(dir.join("run.json"))
+        .map_err(|e| bad(format!("cannot read run.json: {e}")))?;
+    let run = serde_json::from_str(&text).map_err(|e| bad(format!("run.json: {e}")))?;
+    Ok(ShardDir {
+        dir: dir.to_path_buf(),
+        shard,
+        meta,
+        run,
+    })
+}
+
+/// Every shard `0/N … N−1/N` exactly once; otherwise name the directories at fault and the
+/// shards missing.
+fn check_cover(shards: &[ShardDir], count: u64) -> Result<(), RunError> {
+    let mut problems = Vec::new();
+    for s in shards.iter().filter(|s| s.shard.count != count) {
+        problems.push(format!(
+            "{} is shard {} of a {}-way split, the others of a {count}-way one",
+            s.dir.display(),
+            s.shard,
+            s.shard.count
+        ));
+    }
+    for i in 0..count {
+        let dirs: Vec<String> = shards
+            .iter()
+            .filter(|s| s.shard.count == count && s.shard.index == i)
+            .map(|s| s.dir.display().to_string())
+            .collect();
+        match dirs.len() {
+            0 => problems.push(format!("shard {i}/{count} is missing")),
+            1 => {}
+            _ => problems.push(format!(
+                "shard {i}/{count} is given twice: {}",
+                dirs.join(" and ")
+            )),
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(RunError::Input(format!(
+            "the shards do not cover the campaign exactly once: {}",
+            problems.join("; ")
+        )))
+    }
+}
+
+/// Join shard directories (any order) into `out`: rows in instance order, statistics recomputed,
+/// metadata as the unsharded run writes it. Checks that the shards are of one campaign and
+/// cover it exactly once.
+pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, RunError> {
+    refuse_output_among_inputs(dirs, out)?;
+    let mut shards: Vec<ShardDir> = dirs
+        .iter()
+        .map(|d| read_shard(d))
+        .collect::<Result<_, _>>()?;
+    shards.sort_by_key(|s| s.shard.index);
+    let first = shards
+        .first()
+        .ok_or_else(|| RunError::Input("merge needs at least one directory".into()))?;
+    let count = first.shard.count;
+    let same = |key: &str| {
+        shards
+            .iter()
+            .all(|s| meta_value(&s.meta, key) == meta_value(&first.meta, key))
+    };
+    for key in [
+        "cryoslosh.campaign",
+        "cryoslosh.seed",
+        "cryoslosh.instances",
+        "cryoslosh.backend",
+        "cryoslosh.version",
+    ] {
+        if !same(key) {
+            return Err(RunError::Input(format!(
+                "the shards differ in {key}: they are not one campaign"
+            )));
+        }
+    }
+    check_cover(&shards, count)?;
+    let path = meta_value(&first.meta, "cryoslosh.campaign_path").unwrap_or("campaign.toml");
+    let text = meta_value(&first.meta, "cryoslosh.campaign").unwrap_or_default();
+    let c = Campaign::from_text(Path::new(path), text, &[])?;
+    let total: u64 = meta_value(&first.meta, "cryoslosh.instances")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+
+    let staging = Staging::begin(out, force)?;
+    let dir = staging.path().to_path_buf();
+    let mut meta = first.meta.clone();
+    set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());
+    let inst_path = dir.join("instances.parquet");
+    let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
+    let mut rows = 0;
+    for s in &shards {
+        let file = s.dir.join("instances.parquet");
+        verify_shard(&c, s, &file, total)?;
+        rows += table::copy_rows(&mut writer, &file)?;
+    }
+    writer.finish()?;
+    if rows != total {
+        return Err(RunError::Input(format!(
+            "the shards hold {rows} instances, the campaign {total}"
+        )));
+    }
+    let seed = meta_value(&first.meta, "cryoslosh.seed")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(c.seed);
+    let stats = finish_statistics(&c, &dir, total, seed, true, meta)?;
+    // Counts from the merged rows, never copied from the shards' run.json.
+    let count_true = |name: &str| -> Result<u64, RunError> {
+        Ok(table::read_bool(&inst_path, name)?
+            .into_iter()
+            .filter(|&x| x)
+            .count() as u64)
+    };
+    let (diverged, rejected) = (count_true("diverged")?, count_true("rejected")?);
+    let sum = |key: &str| {
+        shards
+            .iter()
+            .map(|s| s.run[key].as_u64().unwrap_or(0))
+            .sum::<u64>()
+    };
+    let report = RunReport {
+        instances: rows,
+        diverged,
+        rejected,
+        instance_steps: sum("instance_steps"),
+        wall_s: shards
+            .iter()
+            .map(|s| s.run["wall_s"].as_f64().unwrap_or(0.0))
+            .sum(),
+        backend: first.run["backend"].as_str().unwrap_or("cpu").into(),
+        device: format!("{count} shards (merged)"),
+        threads: shards
+            .iter()
+            .map(|s| s.run["threads"].as_u64().unwrap_or(0) as usize)
+            .sum(),
+        seed: first.run["seed"].as_u64().unwrap_or(0),
+        shard: Shard::ALL.to_string(),
+        design: c.dispersions.design.name().into(),
+        integrator: integrator_text(&c),
+        rejected_by: tally(
+            shards
+                .iter()
+                .filter_map(|s| s.run["rejected_by"].as_object())
+                .flat_map(|m| m.iter())
+                .fold(std::collections::BTreeMap::new(), |mut acc, (k, v)| {
+                    *acc.entry(k.clone()).or_default() += v.as_u64().unwrap_or(0);
+                    acc
+                }),
+        ),
+        dispersed: !c.dispersions.inputs.is_empty(),
+        max_rejected_fraction: c.statistics.max_rejected_fraction,
+        max_diverged_fraction: c.statistics.max_diverged_fraction,
+        until: None,
+        histories: Vec::new(),
+        statistics: stats,
+    };
+    write_run_json(&dir, &report, total)?;
+    staging.publish()?;
+    Ok(report)
+}
+
+/// `merge … --out` may not be (or contain, or lie inside) one of its shard directories.
+fn refuse_output_among_inputs(dirs: &[PathBuf], out: &Path) -> Result<(), RunError> {
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let out_c = match std::fs::canonicalize(out) {
+        Ok(p) => p,
+        // A missing --out: compare its would-be location through its parent.
+        Err(_) => match (out.parent(), out.file_name()) {
+            (Some(parent), Some(name)) if !parent.as_os_str().is_empty() => {
+                canon(parent).join(name)
+            }
+            _ => canon(Path::new(".")).join(out),
+        },
+    };
+    for d in dirs {
+        let d_c = canon(d);
+        if out_c.starts_with(&d_c) || d_c.starts_with(&out_c) {
+            return Err(RunError::Input(format!(
+                "--out {}: it is (or overlaps) the shard directory {}: merge into a new directory",
+                out.display(),
+                d.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A shard's file must have the merged schema (names and types, in order) and hold exactly the
+/// instance ids of its declared range, in order.
+fn verify_shard(c: &Campaign, s: &ShardDir, file: &Path, total: u64) -> Result<(), RunError> {
+    let bad =
+        |why: String| RunError::Input(format!("shard {} ({}): {why}", s.shard, s.dir.display()));
+    let input_columns: Vec<String> = c
+        .dispersions
+        .inputs
+        .iter()
+        .map(|i| i.column.clone())
+        .collect();
+    let expected = table::schema(&input_columns);
+    let found = table::read_schema(file)?;
+    let want: Vec<(String, String)> = expected
+        .iter()
+        .map(|spec| (spec.name.clone(), spec.kind.to_string()))
+        .collect();
+    if found != want {
+        let first_diff = want
+            .iter()
+            .zip(&found)
+            .position(|(a, b)| a != b)
+            .unwrap_or(want.len().min(found.len()));
+        let show = |v: &[(String, String)]| {
+            v.get(first_diff)
+                .map_or_else(|| "(none)".to_string(), |(n, k)| format!("{n} ({k})"))
+        };
+        return Err(bad(format!(
+            "instances.parquet has other columns than the campaign: column {} is {}, expected {}",
+            first_diff + 1,
+            show(&found),
+            show(&want)
+        )));
+    }
+    let ids = table::read_u64(file, "instance")?;
+    let range = s.shard.range(total);
+    if ids.len() as u64 != range.end - range.start
+        || ids.iter().zip(range.clone()).any(|(&a, b)| a != b)
+    {
+        let wrong = ids
+            .iter()
+            .zip(range.clone())
+            .find(|(&a, b)| a != *b)
+            .map_or_else(String::new, |(a, b)| {
+                format!("; row {} holds instance {a}", b - range.start)
+            });
+        return Err(bad(format!(
+            "holds {} rows, but shard {} of {total} instances is {}..{}{wrong}",
+            ids.len(),
+            s.shard,
+            range.start,
+            range.end
+        )));
+    }
+    Ok(())
+}
