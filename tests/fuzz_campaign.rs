@@ -11,8 +11,11 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+/// A scalar key path and its numeric value, if it has one.
+type Key = (String, Option<f64>);
+
 /// Every scalar key path of a TOML table (arrays by index) with its numeric value, if any.
-fn scalar_keys(prefix: &str, v: &toml::Value, out: &mut Vec<(String, Option<f64>)>) {
+fn scalar_keys(prefix: &str, v: &toml::Value, out: &mut Vec<Key>) {
     let join = |k: &str| {
         if prefix.is_empty() {
             k.to_string()
@@ -38,7 +41,7 @@ fn scalar_keys(prefix: &str, v: &toml::Value, out: &mut Vec<(String, Option<f64>
 }
 
 /// The shipped campaigns with their scalar keys.
-fn campaigns() -> Vec<(std::path::PathBuf, Vec<(String, Option<f64>)>)> {
+fn campaigns() -> Vec<(std::path::PathBuf, Vec<Key>)> {
     let mut names: Vec<&str> = common::CAMPAIGNS.to_vec();
     names.push("template");
     names
