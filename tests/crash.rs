@@ -28,7 +28,7 @@ fn cryoslosh(args: &[&str], failpoint: Option<&str>) -> Output {
 }
 
 /// Every file under `dir` (relative path → bytes); `run.json` reduced to its seed (its wall
-/// time differs between runs of the same result).
+/// time differs between runs of the same result) and `manifest.json` left out.
 fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     let mut out = BTreeMap::new();
     let mut stack = vec![dir.to_path_buf()];
@@ -38,6 +38,10 @@ fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
             if p.is_dir() {
                 stack.push(p);
             } else {
+                if p.file_name().unwrap() == "manifest.json" {
+                    // Holds run.json's checksum; checked by merge, compared through the files.
+                    continue;
+                }
                 let mut bytes = std::fs::read(&p).unwrap();
                 if p.file_name().unwrap() == "run.json" {
                     let v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
@@ -192,7 +196,7 @@ fn merge_refuses_tampered_shards_and_its_own_input_and_a_killed_merge_publishes_
     if common::python_with("pyarrow") {
         let bad = root.join("bad");
         std::fs::create_dir_all(&bad).unwrap();
-        for f in ["run.json", "statistics.parquet"] {
+        for f in ["run.json", "statistics.parquet", "manifest.json"] {
             std::fs::copy(s0.join(f), bad.join(f)).unwrap();
         }
         let script = format!(
@@ -201,9 +205,15 @@ fn merge_refuses_tampered_shards_and_its_own_input_and_a_killed_merge_publishes_
              ids = pa.array([i + 1 for i in t.column('instance').to_pylist()], pa.uint64())\n\
              t = t.set_column(0, 'instance', ids)\n\
              kv = {{k: v for k, v in pq.read_metadata('{0}').metadata.items() if k != b'ARROW:schema'}}\n\
-             pq.write_table(t.replace_schema_metadata(kv), '{1}')\n",
+             pq.write_table(t.replace_schema_metadata(kv), '{1}')\n\
+             import hashlib, json\n\
+             m = json.load(open('{2}'))\n\
+             data = open('{1}', 'rb').read()\n\
+             m['files']['instances.parquet'] = {{'bytes': len(data), 'sha256': hashlib.sha256(data).hexdigest()}}\n\
+             json.dump(m, open('{2}', 'w'))\n",
             s0.join("instances.parquet").display(),
-            bad.join("instances.parquet").display()
+            bad.join("instances.parquet").display(),
+            bad.join("manifest.json").display()
         );
         let py = Command::new("python3")
             .args(["-c", &script])
@@ -233,5 +243,18 @@ fn merge_refuses_tampered_shards_and_its_own_input_and_a_killed_merge_publishes_
         );
         assert!(!m2.exists());
     }
+    // A file changed after the run wrote it (one byte of shard 1's statistics) is caught by the
+    // manifest's SHA-256 and named.
+    let stats = s1.join("statistics.parquet");
+    let mut bytes = std::fs::read(&stats).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 1;
+    std::fs::write(&stats, bytes).unwrap();
+    let m3 = root.join("m3");
+    let o = cryoslosh(&["merge", s0s, s1s, "--out", m3.to_str().unwrap()], None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("statistics.parquet differs"), "{err}");
+    assert!(!m3.exists());
     std::fs::remove_dir_all(root).ok();
 }

@@ -26,6 +26,7 @@ fn read_shard(dir: &Path) -> Result<ShardDir, RunError> {
     if !dir.join("instances.parquet").is_file() {
         return Err(bad("not a results directory (no instances.parquet)".into()));
     }
+    crate::output::results_dir::verify(dir).map_err(bad)?;
     let meta = table::read_metadata(&dir.join("instances.parquet"))?;
     let shard = meta_value(&meta, "cryoslosh.shard")
         .and_then(Shard::parse)

@@ -148,8 +148,16 @@ impl Staging {
         &self.staging
     }
 
-    /// Make the staged files the result: one atomic rename (or exchange) and a directory fsync.
+    /// Make the staged files the result: `manifest.json` (size and SHA-256 of every file) written
+    /// last, then one atomic rename (or exchange) and a directory fsync.
     pub fn publish(mut self) -> Result<(), ResultsDirError> {
+        let manifest = manifest(&self.staging).map_err(io(&self.staging))?;
+        let text = serde_json::to_string_pretty(&manifest).unwrap_or_default();
+        crate::output::atomic::write_atomic(&self.staging.join(MANIFEST), text.as_bytes())
+            .map_err(|e| ResultsDirError::Io {
+                path: self.staging.join(MANIFEST),
+                source: std::io::Error::other(e.to_string()),
+            })?;
         sync_dir(&self.staging);
         failpoint("before-publish");
         let exists = fs::symlink_metadata(&self.target).is_ok();
@@ -250,4 +258,79 @@ fn sync_dir(dir: &Path) {
     if let Ok(d) = File::open(dir) {
         let _ = d.sync_all();
     }
+}
+
+/// The manifest of a results directory: every other file's size and SHA-256, written last.
+pub const MANIFEST: &str = "manifest.json";
+
+/// Relative path (with `/`), size and SHA-256 (hex) of every file under `dir` but the manifest,
+/// sorted by path.
+fn manifest(dir: &Path) -> std::io::Result<serde_json::Value> {
+    let mut files = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d)? {
+            let p = e?.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p != dir.join(MANIFEST) {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    let mut map = serde_json::Map::new();
+    for p in files {
+        let rel = p
+            .strip_prefix(dir)
+            .unwrap_or(&p)
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect::<Vec<_>>()
+            .join("/");
+        let (bytes, sha) = digest(&p)?;
+        map.insert(rel, serde_json::json!({ "bytes": bytes, "sha256": sha }));
+    }
+    Ok(serde_json::json!({ "version": crate::VERSION, "files": map }))
+}
+
+/// Size and SHA-256 (lower-case hex) of a file, read in 1 MiB blocks.
+pub fn digest(path: &Path) -> std::io::Result<(u64, String)> {
+    use sha2::{Digest, Sha256};
+    use std::io::Read;
+    let mut f = File::open(path)?;
+    let mut h = Sha256::new();
+    let mut buf = vec![0u8; 1 << 20];
+    let mut bytes = 0u64;
+    loop {
+        let n = f.read(&mut buf)?;
+        if n == 0 {
+            break;
+        }
+        h.update(&buf[..n]);
+        bytes += n as u64;
+    }
+    let hex = h.finalize().iter().map(|b| format!("{b:02x}")).collect();
+    Ok((bytes, hex))
+}
+
+/// Check every file a results directory's manifest lists (size and SHA-256); `Err` names the
+/// first that is missing or differs, or says the manifest is absent.
+pub fn verify(dir: &Path) -> Result<(), String> {
+    let text = fs::read_to_string(dir.join(MANIFEST))
+        .map_err(|_| "no manifest.json: not a complete results directory".to_string())?;
+    let m: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("manifest.json: {e}"))?;
+    let files = m["files"]
+        .as_object()
+        .ok_or_else(|| "manifest.json lists no files".to_string())?;
+    for (rel, want) in files {
+        let (bytes, sha) = digest(&dir.join(rel)).map_err(|e| format!("{rel}: {e}"))?;
+        if want["bytes"].as_u64() != Some(bytes) || want["sha256"].as_str() != Some(sha.as_str()) {
+            return Err(format!(
+                "{rel} differs from its manifest entry (changed after the run wrote it)"
+            ));
+        }
+    }
+    Ok(())
 }
