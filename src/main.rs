@@ -97,6 +97,10 @@ enum Command {
         /// peak_pressure_pa>350000:0.002. Default: the campaign's [statistics.target].
         #[arg(long, value_name = "SPEC")]
         until: Option<String>,
+        /// Continue the interrupted run of this same command in --out from its committed
+        /// blocks; the result equals the uninterrupted run byte for byte.
+        #[arg(long)]
+        resume: bool,
     },
     /// Write a commented template campaign to start from (refuses to overwrite without --force).
     Init {
@@ -295,6 +299,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             force,
             histories,
             until,
+            resume,
         } => {
             let c = Campaign::load(&campaign, &set)?;
             let histories = match histories {
@@ -333,6 +338,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 histories,
                 until,
                 force,
+                resume,
             };
             let report = montecarlo::run(&c, &backend, &opts)?;
             print!("{}", montecarlo::summary_text(&report));

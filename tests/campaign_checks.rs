@@ -426,6 +426,7 @@ fn saltelli_distribution_statistics_use_independent_rows() {
         histories: Vec::new(),
         until: None,
         force: false,
+        resume: false,
     };
     let r = montecarlo::run(&c, &Backend::Cpu(CpuEngine::new(2).unwrap()), &opts).unwrap();
     assert_eq!(

@@ -33,6 +33,7 @@ fn run(c: &Campaign, dir: &Path, n: u64, threads: usize, chunk: u64, shard: Shar
         histories: Vec::new(),
         until: None,
         force: false,
+        resume: false,
     };
     let backend = Backend::Cpu(CpuEngine::new(threads).unwrap());
     montecarlo::run(c, &backend, &opts).unwrap()

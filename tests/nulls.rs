@@ -30,6 +30,7 @@ fn rejected_instances_are_nulls_and_readers_agree() {
         histories: Vec::new(),
         until: None,
         force: false,
+        resume: false,
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     let r = montecarlo::run(&c, &backend, &opts).unwrap();

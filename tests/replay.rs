@@ -26,6 +26,7 @@ fn run(c: &Campaign, dir: &Path, n: u64, shard: Shard) {
         histories: Vec::new(),
         until: None,
         force: false,
+        resume: false,
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     montecarlo::run(c, &backend, &opts).unwrap();
@@ -155,6 +156,7 @@ fn run_writes_the_histories_of_the_worst_and_named_instances() {
         histories: histories::parse("worst:peak_pressure_pa:3,instance:4").unwrap(),
         until: None,
         force: false,
+        resume: false,
     };
     let backend = Backend::Cpu(CpuEngine::new(2).unwrap());
     montecarlo::run(&c, &backend, &opts).unwrap();

@@ -36,6 +36,7 @@ fn run(dir: &Path, threads: usize, chunk: u64, spec: &str) -> RunReport {
         histories: Vec::new(),
         until: Some(parse_until(spec).unwrap()),
         force: false,
+        resume: false,
     };
     montecarlo::run(&c, &Backend::Cpu(CpuEngine::new(threads).unwrap()), &opts).unwrap()
 }

@@ -119,7 +119,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         .and_then(|v| v.parse().ok())
         .unwrap_or(0);
 
-    let staging = Staging::begin(out, force)?;
+    let staging = Staging::begin(out, force, false)?;
     let dir = staging.path().to_path_buf();
     let mut meta = first.meta.clone();
     set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());

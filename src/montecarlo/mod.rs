@@ -2,6 +2,7 @@
 //! then derives `statistics.parquet` and `run.json`; `merge` joins shard directories into
 //! exactly what the unsharded run writes.
 
+pub mod checkpoint;
 pub mod histories;
 mod merge;
 pub mod plan;
@@ -24,7 +25,7 @@ use std::io::IsTerminal;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 pub use summary::summary_text;
-use table::{InstanceWriter, ReadError};
+use table::ReadError;
 
 /// A contiguous slice of the instance range: shard `index` of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -76,6 +77,8 @@ pub struct RunOptions {
     pub until: Option<crate::campaign::statistics::Target>,
     /// Replace a previous result in `out_dir` (a non-empty directory is refused otherwise).
     pub force: bool,
+    /// Continue the interrupted run of the same command in `out_dir` (`run --resume`).
+    pub resume: bool,
 }
 
 impl RunOptions {
@@ -335,7 +338,8 @@ fn set_meta(meta: &mut [(String, String)], key: &str, value: String) {
 pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport, RunError> {
     check_options(c, o)?;
     let engine = backend.engine();
-    let staging = Staging::begin(&o.out_dir, o.force)?;
+    let mut staging = Staging::begin(&o.out_dir, o.force, o.resume)?;
+    staging.keep_on_failure();
     let dir = staging.path().to_path_buf();
     let plan = Plan {
         campaign: c,
@@ -351,44 +355,55 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let mut stopper = o
         .target(c)
         .and_then(|t| until::Stopper::new(t.clone(), c.statistics.confidence, range.start, group));
-    let count_known = stopper.is_none().then_some(o.instances);
-    let mut meta = metadata(c, engine.name(), o.seed, count_known, o.shard);
-    let inst_path = dir.join("instances.parquet");
-    let writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
-    let mut stop_at = range.end;
+    let mut meta = metadata(c, engine.name(), o.seed, None, o.shard);
+    // What makes a run this run: a resumed run must be the same one.
+    let identity = serde_json::json!({
+        "campaign": c.text,
+        "seed": o.seed,
+        "instances": o.instances,
+        "shard": o.shard.to_string(),
+        "backend": engine.name(),
+        "target": o.target(c).map(|t| format!("{t:?}")),
+    });
+    let mut counts = checkpoint::Counts::default();
+    let mut at = range.start;
+    if o.resume {
+        let (done, parts) = checkpoint::load(&dir, &identity)?;
+        // Replay the committed rows through the stopping rule, part by part: parts end at its
+        // check points, so it reaches the state it had.
+        for part in &parts {
+            let n = table::read_u64(part, "instance")?.len() as u64;
+            if let Some(s) = &mut stopper {
+                s.observe_column(&table::read_f64(part, s.quantity())?);
+            }
+            at += n;
+            if stopper.as_mut().is_some_and(|s| s.check(at)) {
+                break;
+            }
+        }
+        counts = done;
+    }
+    let mut stop_at = match &stopper {
+        Some(s) if s.last.as_ref().is_some_and(|p| p.met) => at,
+        _ => range.end,
+    };
 
     let bar = progress_bar(o.progress, range.end - range.start);
+    bar.inc(at - range.start);
     let start = std::time::Instant::now();
-    let (mut steps, mut diverged, mut rejected) = (0u64, 0u64, 0u64);
-    let mut rejected_by = std::collections::BTreeMap::<String, u64>::new();
-    // Double buffering: a writer thread encodes chunk k to Parquet while the engine integrates
-    // chunk k + 1 (one chunk in flight bounds memory at two chunks).
-    // `None` marks the end: only then is the file renamed into place.
-    // `Err(count)` marks the end (with the instance count when only now known): only then is
-    // the file renamed into place.
-    type Message = Result<Vec<plan::InstanceRecord>, Option<u64>>;
+    // Double buffering: a writer thread commits block k as a part file while the engine
+    // integrates block k + 1 (one block in flight bounds memory at two blocks).
+    type Message = (Vec<plan::InstanceRecord>, checkpoint::Counts);
     let (tx, rx) = std::sync::mpsc::sync_channel::<Message>(1);
     let outcome = std::thread::scope(|scope| -> Result<(), RunError> {
-        let mut writer = writer;
+        let (dir, identity) = (&dir, &identity);
         let writing = scope.spawn(move || -> Result<(), RunError> {
-            for block in rx {
-                let block = match block {
-                    Ok(block) => block,
-                    Err(count) => {
-                        if let Some(n) = count {
-                            writer.append_metadata("cryoslosh.instances", &n.to_string());
-                        }
-                        writer.finish()?;
-                        return Ok(());
-                    }
-                };
-                for r in &block {
-                    writer.push(r)?;
-                }
+            for (k, (block, counts)) in rx.into_iter().enumerate() {
+                checkpoint::commit(dir, &c.dispersions, identity, &block, &counts)?;
+                failpoint(&format!("after-part-{k}"));
             }
-            Ok(()) // abandoned: the integration failed
+            Ok(())
         });
-        let mut at = range.start;
         let mut integrated = Ok(());
         while at < stop_at {
             let mut end = (at + o.chunk_size).min(stop_at);
@@ -402,18 +417,11 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
                     break;
                 }
             };
-            for r in &block {
-                steps += r.summary.steps;
-                diverged += u64::from(r.summary.diverged);
-                rejected += u64::from(r.rejected);
-                if let Some(key) = &r.rejected_by {
-                    *rejected_by.entry(key.clone()).or_default() += 1;
-                }
-            }
+            counts.add(&block);
             if let Some(s) = &mut stopper {
                 s.observe(&block);
             }
-            if tx.send(Ok(block)).is_err() {
+            if tx.send((block, counts.clone())).is_err() {
                 break; // the writer failed; its error is reported below
             }
             bar.inc(end - at);
@@ -422,18 +430,22 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
                 stop_at = at;
             }
         }
-        if integrated.is_ok() {
-            let _ = tx.send(Err(stopper.is_some().then_some(at)));
-        }
         drop(tx);
         let written = writing
             .join()
             .expect("the Parquet writer thread does not panic");
         integrated.and(written)
     });
-    outcome?; // on error the staging directory is removed when `staging` drops
+    outcome?; // the staging directory stays for `run --resume`
     bar.finish_and_clear();
     let wall_s = start.elapsed().as_secs_f64();
+    let checkpoint::Counts {
+        steps,
+        diverged,
+        rejected,
+        rejected_by,
+        ..
+    } = counts;
 
     let full = o.shard.count == 1;
     // A precision-driven run holds the instances up to where it stopped.
@@ -445,11 +457,12 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
             {
                 s.last = Some(s.progress());
             }
-            meta.push(("cryoslosh.instances".into(), stop_at.to_string()));
             stop_at
         }
         None => o.instances,
     };
+    meta.push(("cryoslosh.instances".into(), total.to_string()));
+    let inst_path = checkpoint::assemble(&dir, &c.dispersions, meta.clone())?;
     failpoint("after-instances");
     let rows = finish_statistics(c, &dir, total, o.seed, full, meta)?;
     failpoint("after-statistics");

@@ -70,6 +70,17 @@ impl Stopper {
         self.next
     }
 
+    /// The QoI column the target is about.
+    pub fn quantity(&self) -> &'static str {
+        QOI_F64[self.column].0
+    }
+
+    /// Record values of the target quantity as written in instances.parquet (nulls as NaN),
+    /// in instance order (a resumed run replays its committed parts).
+    pub fn observe_column(&mut self, values: &[f64]) {
+        self.values.extend_from_slice(values);
+    }
+
     /// Record a block of records (in instance order).
     pub fn observe(&mut self, block: &[InstanceRecord]) {
         for r in block {

@@ -1,12 +1,12 @@
 //! A results directory published whole or not at all.
 //!
-//! A command writes every file into a staging sibling `.<name>.tmp-<pid>` and publishes it with
+//! A command writes every file into a staging sibling `.<name>.partial` and publishes it with
 //! one atomic rename (Linux: `renameat2(RENAME_EXCHANGE)` when a previous result is replaced, so
 //! the name always points at a complete directory; elsewhere two renames, with the previous result
 //! kept as `.<name>.old-<pid>` in between and restored by the next command if the process died
 //! there). An advisory lock on `.<name>.lock` (std's `File::try_lock`, flock on Unix) refuses a
 //! second writer of the same directory, and under it the stale staging directories of dead
-//! processes are removed.
+//! processes are removed — except by `run --resume`, which continues from the one it finds.
 
 use std::fs::{self, File};
 use std::path::{Path, PathBuf};
@@ -29,6 +29,9 @@ pub enum ResultsDirError {
          --force replaces only a previous result, so choose another directory"
     )]
     Foreign { path: PathBuf, listing: String },
+    /// `--resume` on a directory without an interrupted run.
+    #[error("--resume {0}: there is no interrupted run to resume there")]
+    NothingToResume(PathBuf),
     /// `--out` names something other than a directory.
     #[error("--out {0}: exists and is not a directory")]
     NotADirectory(PathBuf),
@@ -65,6 +68,7 @@ pub struct Staging {
     staging: PathBuf,
     _lock: File,
     published: bool,
+    keep: bool,
 }
 
 /// Sorted entry names of a directory, the first few joined for a message.
@@ -82,8 +86,9 @@ fn listing(dir: &Path) -> std::io::Result<(usize, String)> {
 impl Staging {
     /// Lock `target`, clean up after dead writers, check it may be written, and create the
     /// staging directory. `force` allows replacing a previous result (a directory with a
-    /// `run.json`); an empty or missing directory needs no `force`.
-    pub fn begin(target: &Path, force: bool) -> Result<Staging, ResultsDirError> {
+    /// `run.json`); an empty or missing directory needs no `force`. `resume` keeps the staging
+    /// directory an interrupted run left (`run --resume`); otherwise it is removed.
+    pub fn begin(target: &Path, force: bool, resume: bool) -> Result<Staging, ResultsDirError> {
         let name = target
             .file_name()
             .ok_or_else(|| ResultsDirError::NotADirectory(target.to_path_buf()))?
@@ -132,14 +137,21 @@ impl Staging {
             }
             Err(_) => {}
         }
-        let staging = parent.join(format!(".{name}.tmp-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&staging);
-        fs::create_dir(&staging).map_err(io(&staging))?;
+        let staging = parent.join(format!(".{name}.partial"));
+        if resume {
+            if !staging.is_dir() {
+                return Err(ResultsDirError::NothingToResume(target.to_path_buf()));
+            }
+        } else {
+            let _ = fs::remove_dir_all(&staging);
+            fs::create_dir(&staging).map_err(io(&staging))?;
+        }
         Ok(Staging {
             target: target.to_path_buf(),
             staging,
             _lock: lock,
             published: false,
+            keep: false,
         })
     }
 
@@ -178,9 +190,17 @@ impl Staging {
     }
 }
 
+impl Staging {
+    /// Keep the staging directory if the command fails (a run: `run --resume` continues from
+    /// it; the next plain command on the path removes it).
+    pub fn keep_on_failure(&mut self) {
+        self.keep = true;
+    }
+}
+
 impl Drop for Staging {
     fn drop(&mut self) {
-        if !self.published {
+        if !self.published && !self.keep {
             let _ = fs::remove_dir_all(&self.staging);
         }
     }
@@ -236,6 +256,7 @@ fn old_path(target: &Path) -> PathBuf {
 /// Under the lock: restore a previous result that a writer killed between its two renames left
 /// as `.<name>.old-*` (when the name is empty), and remove every other staging or old directory.
 fn recover(parent: &Path, name: &str, target: &Path) -> Result<(), ResultsDirError> {
+    // `.<name>.tmp-*`: staging of versions before `.partial`.
     let tmp_prefix = format!(".{name}.tmp-");
     let old_prefix = format!(".{name}.old-");
     let Ok(entries) = fs::read_dir(parent) else {

@@ -1,0 +1,165 @@
+//! Resumable runs: every block the engine integrates is committed as a part file
+//! (`parts/part-<first instance>.parquet`) followed by `progress.json` (what the run is, how far
+//! it got and its running counts), inside the staging directory. A killed run leaves them;
+//! `run --resume` checks that it is the same run, re-reads the parts and continues. At the end
+//! the parts are joined into `instances.parquet` exactly as `merge` joins shards, so the result
+//! is byte-identical to an uninterrupted run.
+
+use super::plan::InstanceRecord;
+use super::table::{self, InstanceWriter};
+use super::RunError;
+use crate::campaign::dispersion::Dispersions;
+use crate::output::atomic::write_atomic;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Running counts of a run, as of its last committed part.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Counts {
+    /// Instances committed, from the shard's first.
+    pub completed: u64,
+    pub steps: u64,
+    pub diverged: u64,
+    pub rejected: u64,
+    pub rejected_by: BTreeMap<String, u64>,
+}
+
+impl Counts {
+    /// Add a block's records.
+    pub fn add(&mut self, block: &[InstanceRecord]) {
+        for r in block {
+            self.steps += r.summary.steps;
+            self.diverged += u64::from(r.summary.diverged);
+            self.rejected += u64::from(r.rejected);
+            if let Some(key) = &r.rejected_by {
+                *self.rejected_by.entry(key.clone()).or_default() += 1;
+            }
+        }
+        self.completed += block.len() as u64;
+    }
+}
+
+const PROGRESS: &str = "progress.json";
+
+fn parts_dir(dir: &Path) -> PathBuf {
+    dir.join("parts")
+}
+
+/// Write a block as its part file, then the progress after it (the part first: progress never
+/// names a part that is not whole).
+pub fn commit(
+    dir: &Path,
+    d: &Dispersions,
+    identity: &serde_json::Value,
+    block: &[InstanceRecord],
+    counts: &Counts,
+) -> Result<(), RunError> {
+    let Some(first) = block.first() else {
+        return Ok(());
+    };
+    let parts = parts_dir(dir);
+    std::fs::create_dir_all(&parts).map_err(|source| crate::output::OutputError::Io {
+        path: parts.clone(),
+        source,
+    })?;
+    let mut w = InstanceWriter::create(
+        &parts.join(format!("part-{:012}.parquet", first.instance)),
+        d,
+        Vec::new(),
+    )?;
+    for r in block {
+        w.push(r)?;
+    }
+    w.finish()?;
+    let json = serde_json::json!({
+        "identity": identity,
+        "completed": counts.completed,
+        "steps": counts.steps,
+        "diverged": counts.diverged,
+        "rejected": counts.rejected,
+        "rejected_by": counts.rejected_by,
+    });
+    write_atomic(&dir.join(PROGRESS), json.to_string().as_bytes())?;
+    Ok(())
+}
+
+/// An interrupted run's state: its counts and its part files in instance order (only those the
+/// progress covers; a part written after the last progress is dropped).
+pub fn load(dir: &Path, identity: &serde_json::Value) -> Result<(Counts, Vec<PathBuf>), RunError> {
+    let bad = |why: String| RunError::Input(format!("--resume: {why}"));
+    let text = std::fs::read_to_string(dir.join(PROGRESS))
+        .map_err(|_| bad("the interrupted run committed nothing yet: run it again".into()))?;
+    let p: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| bad(format!("progress.json: {e}")))?;
+    if &p["identity"] != identity {
+        return Err(bad(
+            "the interrupted run in that directory is another run (campaign, seed, instances, \
+             shard, backend or target differ): give the same command, or run without --resume"
+                .into(),
+        ));
+    }
+    let u = |k: &str| p[k].as_u64().unwrap_or(0);
+    let counts = Counts {
+        completed: u("completed"),
+        steps: u("steps"),
+        diverged: u("diverged"),
+        rejected: u("rejected"),
+        rejected_by: p["rejected_by"]
+            .as_object()
+            .map(|m| {
+                m.iter()
+                    .map(|(k, v)| (k.clone(), v.as_u64().unwrap_or(0)))
+                    .collect()
+            })
+            .unwrap_or_default(),
+    };
+    let mut parts: Vec<PathBuf> = std::fs::read_dir(parts_dir(dir))
+        .map(|it| it.filter_map(Result::ok).map(|e| e.path()).collect())
+        .unwrap_or_default();
+    parts.sort();
+    // Keep the parts whose rows the progress counts.
+    let mut kept = Vec::new();
+    let mut rows = 0u64;
+    for part in parts {
+        if rows >= counts.completed {
+            let _ = std::fs::remove_file(&part);
+            continue;
+        }
+        rows += table::read_u64(&part, "instance")?.len() as u64;
+        kept.push(part);
+    }
+    if rows != counts.completed {
+        return Err(bad(format!(
+            "the parts hold {rows} instances, the progress says {}: run without --resume",
+            counts.completed
+        )));
+    }
+    Ok((counts, kept))
+}
+
+/// The part files of `dir` in instance order.
+pub fn parts(dir: &Path) -> Vec<PathBuf> {
+    let mut parts: Vec<PathBuf> = std::fs::read_dir(parts_dir(dir))
+        .map(|it| it.filter_map(Result::ok).map(|e| e.path()).collect())
+        .unwrap_or_default();
+    parts.sort();
+    parts
+}
+
+/// Join the parts into `dir/instances.parquet` with `meta`, then remove the parts and the
+/// progress file.
+pub fn assemble(
+    dir: &Path,
+    d: &Dispersions,
+    meta: Vec<(String, String)>,
+) -> Result<PathBuf, RunError> {
+    let path = dir.join("instances.parquet");
+    let mut w = InstanceWriter::create(&path, d, meta)?;
+    for part in parts(dir) {
+        table::copy_rows(&mut w, &part)?;
+    }
+    w.finish()?;
+    let _ = std::fs::remove_dir_all(parts_dir(dir));
+    let _ = std::fs::remove_file(dir.join(PROGRESS));
+    Ok(path)
+}
