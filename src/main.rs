@@ -13,6 +13,23 @@ use cryoslosh::simulate::{self, History};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// `print!` that returns an error instead of panicking when stdout fails (a full disk: exit 1;
+/// a closed pipe ends the process quietly through the default SIGPIPE).
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout().lock(), $($arg)*).context("cannot write to standard output")?
+    }};
+}
+
+/// `println!` with the error handling of [`out!`].
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*).context("cannot write to standard output")?
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "cryoslosh",
@@ -193,16 +210,16 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let c = Campaign::load(&campaign, &set)?;
             montecarlo::check_statistics(&c)?;
             if let Err(e) = c.check_overrides_not_dispersed(&set) {
-                println!("note: the nominal below uses the override, but `run` refuses it: {e}");
+                outln!("note: the nominal below uses the override, but `run` refuses it: {e}");
             }
-            print!("{}", cryoslosh::campaign::describe(&c));
-            print!(
+            out!("{}", cryoslosh::campaign::describe(&c));
+            out!(
                 "{}",
                 cryoslosh::campaign::statistics::describe(&c.statistics)
             );
-            print!("{}", simulate::plan::describe_step_plan(&c));
+            out!("{}", simulate::plan::describe_step_plan(&c));
             let screen = montecarlo::screen::screen(&c, c.seed, c.instances);
-            print!(
+            out!(
                 "{}",
                 montecarlo::screen::describe(&screen, c.statistics.max_rejected_fraction)
             );
@@ -247,13 +264,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     let d = &nominal.dispersions;
                     let values =
                         montecarlo::plan::sample_inputs(d, nominal.seed, nominal.instances, i);
-                    println!(
+                    outln!(
                         "instance {i} of campaign.instances = {}, seed {} (to replay a run made \
                          with other --instances or --seed: simulate --run DIR --instance {i})",
-                        nominal.instances, nominal.seed
+                        nominal.instances,
+                        nominal.seed
                     );
                     for (input, v) in d.inputs.iter().zip(&values) {
-                        println!("{} = {v}", input.key);
+                        outln!("{} = {v}", input.key);
                     }
                     let mut c = nominal.instance(&values)?;
                     c.text = nominal.text.clone();
@@ -269,8 +287,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 .then(|| q.diverged_reason.clone().unwrap_or_default());
             let rows = cryoslosh::history::write_history(&out, &c, &h, &label, diverged.as_deref())
                 .with_context(|| format!("writing {}", out.display()))?;
-            println!("{}", simulate::describe_summary(&q));
-            println!(
+            outln!("{}", simulate::describe_summary(&q));
+            outln!(
                 "{} steps in {:.2} s ({:.0} steps/s); {} rows → {}",
                 q.steps,
                 wall,
@@ -341,8 +359,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 resume,
             };
             let report = montecarlo::run(&c, &backend, &opts)?;
-            print!("{}", montecarlo::summary_text(&report));
-            println!(
+            out!("{}", montecarlo::summary_text(&report));
+            outln!(
                 "wrote {}/{{instances,statistics}}.parquet and run.json{}",
                 opts.out_dir.display(),
                 if opts.histories.is_empty() {
@@ -373,22 +391,22 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     let stem = path
                         .file_stem()
                         .map_or_else(|| "campaign".into(), |s| s.to_string_lossy().into_owned());
-                    println!("wrote the template campaign {p} (a small LN2 tank: pad hold, burn with a gust, three dispersions)");
-                    println!("next: edit it, then");
-                    println!("  cryoslosh check {p}");
-                    println!("  cryoslosh run {p} --out {stem}-run --instances 100");
+                    outln!("wrote the template campaign {p} (a small LN2 tank: pad hold, burn with a gust, three dispersions)");
+                    outln!("next: edit it, then");
+                    outln!("  cryoslosh check {p}");
+                    outln!("  cryoslosh run {p} --out {stem}-run --instances 100");
                     Ok(())
                 }
             }
         }
         Command::Devices => {
-            print!("{}", context::describe_adapters(&context::adapters()));
+            out!("{}", context::describe_adapters(&context::adapters()));
             Ok(())
         }
         Command::Merge { dirs, out, force } => {
             let report = montecarlo::merge(&dirs, &out, force)?;
-            print!("{}", montecarlo::summary_text(&report));
-            println!("merged {} shards into {}", dirs.len(), out.display());
+            out!("{}", montecarlo::summary_text(&report));
+            outln!("merged {} shards into {}", dirs.len(), out.display());
             check_trust(&report)
         }
     }
@@ -430,10 +448,10 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
     let (run, record) = montecarlo::replay::replay(dir, i, Some(&mut h))?;
     let c = &run.campaign;
     for (input, v) in c.dispersions.inputs.iter().zip(&record.inputs) {
-        println!("{} = {v}", input.key);
+        outln!("{} = {v}", input.key);
     }
     if record.rejected {
-        println!(
+        outln!(
             "instance {i} is rejected: {}",
             record.summary.diverged_reason.as_deref().unwrap_or("")
         );
@@ -445,13 +463,13 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
         let rows =
             cryoslosh::history::write_history(out, c, &h, &i.to_string(), diverged.as_deref())
                 .with_context(|| format!("writing {}", out.display()))?;
-        println!("{}", simulate::describe_summary(q));
-        println!("{} steps; {rows} rows → {}", q.steps, out.display());
+        outln!("{}", simulate::describe_summary(q));
+        outln!("{} steps; {rows} rows → {}", q.steps, out.display());
     }
     let diffs = montecarlo::replay::compare_row(dir, &c.dispersions, &record)?;
     let row = format!("row {i} of {}", dir.join("instances.parquet").display());
     if diffs.is_empty() {
-        println!("replay equals {row} bit for bit");
+        outln!("replay equals {row} bit for bit");
         return Ok(());
     }
     let list: Vec<String> = diffs
@@ -461,7 +479,7 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
     if run.backend == "cpu" {
         anyhow::bail!("replay differs from {row}: {}", list.join("; "));
     }
-    println!(
+    outln!(
         "the run integrated on {} (f32); the CPU replay differs from {row} in: {}",
         run.backend,
         list.join("; ")

@@ -441,3 +441,23 @@ fn saltelli_distribution_statistics_use_independent_rows() {
     assert_eq!(sobol.stat.n, 20);
     std::fs::remove_dir_all(out).ok();
 }
+
+/// Regression: every command exited 101 "failed printing to stdout" on a full device; it now
+/// exits 1 with a message and no panic.
+#[test]
+fn a_full_stdout_exits_1_without_a_panic() {
+    let Ok(full) = std::fs::File::options().write(true).open("/dev/full") else {
+        return; // no /dev/full on this system
+    };
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args(["check", campaign_path("lh2_upper_stage").to_str().unwrap()])
+        .stdout(full)
+        .output()
+        .unwrap();
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("cannot write to standard output") && !e.contains("panicked"),
+        "{e}"
+    );
+}
