@@ -342,3 +342,39 @@ fn resume_after_a_kill_equals_the_uninterrupted_run() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("no interrupted run"));
     std::fs::remove_dir_all(root).ok();
 }
+
+/// A full disk at any write of a run (injected ENOSPC) fails it with exit 1 and the device's
+/// message, leaves the previous result whole, and the next command cleans up.
+#[test]
+fn a_full_disk_at_any_point_leaves_the_previous_result() {
+    let camp = campaign_path("mhtb_selfpress");
+    let camp = camp.to_str().unwrap();
+    let root = scratch("enospc");
+    let out = root.join("results");
+    let outs = out.to_str().unwrap();
+    let o = cryoslosh(&run_args(camp, outs, "1"), None);
+    assert!(o.status.success());
+    let old = snapshot(&out);
+    for point in [
+        "after-part-0",
+        "after-instances",
+        "after-statistics",
+        "before-publish",
+    ] {
+        let fp = format!("enospc:{point}");
+        let o = cryoslosh(&run_args(camp, outs, "2"), Some(&fp));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{point}: {err}");
+        assert!(err.contains("No space left on device"), "{point}: {err}");
+        assert!(!err.contains("panicked"), "{point}: {err}");
+        assert!(
+            snapshot(&out) == old,
+            "{point}: the previous result must be untouched"
+        );
+    }
+    let o = cryoslosh(&run_args(camp, outs, "1"), None);
+    assert!(o.status.success());
+    assert!(leftovers(&out).is_empty(), "{:?}", leftovers(&out));
+    assert!(snapshot(&out) == old);
+    std::fs::remove_dir_all(root).ok();
+}

@@ -400,7 +400,10 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         let writing = scope.spawn(move || -> Result<(), RunError> {
             for (k, (block, counts)) in rx.into_iter().enumerate() {
                 checkpoint::commit(dir, &c.dispersions, identity, &block, &counts)?;
-                failpoint(&format!("after-part-{k}"));
+                failpoint(&format!("after-part-{k}")).map_err(|source| OutputError::Io {
+                    path: dir.to_path_buf(),
+                    source,
+                })?;
             }
             Ok(())
         });
@@ -463,9 +466,15 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     };
     meta.push(("cryoslosh.instances".into(), total.to_string()));
     let inst_path = checkpoint::assemble(&dir, &c.dispersions, meta.clone())?;
-    failpoint("after-instances");
+    failpoint("after-instances").map_err(|source| OutputError::Io {
+        path: dir.clone(),
+        source,
+    })?;
     let rows = finish_statistics(c, &dir, total, o.seed, full, meta)?;
-    failpoint("after-statistics");
+    failpoint("after-statistics").map_err(|source| OutputError::Io {
+        path: dir.clone(),
+        source,
+    })?;
     let mut history_notes = Vec::new();
     if !o.histories.is_empty() {
         let (chosen, select_notes) = histories::select(&o.histories, &inst_path)?;

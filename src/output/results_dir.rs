@@ -52,12 +52,20 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ResultsDirError + '_ {
 }
 
 /// Test hook: when the environment variable `CRYOSLOSH_FAILPOINT` equals `name`, the process
-/// aborts here (as a kill would). Used by `tests/crash.rs` to stop a command between any two
-/// writes and renames.
-pub fn failpoint(name: &str) {
-    if std::env::var_os("CRYOSLOSH_FAILPOINT").is_some_and(|v| v == name) {
+/// aborts here (as a kill would); when it equals `enospc:name`, the point fails with the "no
+/// space left on device" error a full disk gives. Used by `tests/crash.rs` to stop a command
+/// between any two writes and renames.
+pub fn failpoint(name: &str) -> std::io::Result<()> {
+    let Some(v) = std::env::var_os("CRYOSLOSH_FAILPOINT") else {
+        return Ok(());
+    };
+    if v == name {
         std::process::abort();
     }
+    if v.to_str().and_then(|v| v.strip_prefix("enospc:")) == Some(name) {
+        return Err(std::io::Error::from_raw_os_error(28)); // ENOSPC
+    }
+    Ok(())
 }
 
 /// A results directory being written: files go to [`Self::path`]; [`Self::publish`] makes them
@@ -171,7 +179,7 @@ impl Staging {
                 source: std::io::Error::other(e.to_string()),
             })?;
         sync_dir(&self.staging);
-        failpoint("before-publish");
+        failpoint("before-publish").map_err(io(&self.target))?;
         let exists = fs::symlink_metadata(&self.target).is_ok();
         if !exists {
             fs::rename(&self.staging, &self.target).map_err(io(&self.target))?;
@@ -227,7 +235,9 @@ fn replace(staging: &Path, target: &Path) -> Result<(), ResultsDirError> {
                 )
             };
             if rc == 0 {
-                failpoint("after-exchange");
+                // A failure here still leaves the new result published; the old one is removed
+                // by the next command.
+                let _ = failpoint("after-exchange");
                 // `staging` now holds the previous result.
                 let _ = fs::remove_dir_all(staging);
                 return Ok(());
@@ -238,8 +248,11 @@ fn replace(staging: &Path, target: &Path) -> Result<(), ResultsDirError> {
     let old = old_path(target);
     let _ = fs::remove_dir_all(&old);
     fs::rename(target, &old).map_err(io(target))?;
-    failpoint("between-renames");
-    fs::rename(staging, target).map_err(io(target))?;
+    if let Err(e) = failpoint("between-renames").and_then(|()| fs::rename(staging, target)) {
+        // Put the previous result back rather than leave the name empty.
+        let _ = fs::rename(&old, target);
+        return Err(io(target)(e));
+    }
     let _ = fs::remove_dir_all(&old);
     Ok(())
 }
