@@ -449,15 +449,31 @@ fn a_full_stdout_exits_1_without_a_panic() {
     let Ok(full) = std::fs::File::options().write(true).open("/dev/full") else {
         return; // no /dev/full on this system
     };
-    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
-        .args(["check", campaign_path("lh2_upper_stage").to_str().unwrap()])
-        .stdout(full)
-        .output()
-        .unwrap();
-    let e = stderr(&o);
-    assert_eq!(o.status.code(), Some(1), "{e}");
-    assert!(
-        e.contains("cannot write to standard output") && !e.contains("panicked"),
-        "{e}"
-    );
+    let dir = scratch("full-stdout");
+    std::fs::create_dir_all(&dir).unwrap();
+    let history = dir.join("h.parquet");
+    let aydelott = campaign_path("aydelott_sphere");
+    let commands: [Vec<&str>; 2] = [
+        vec!["check", aydelott.to_str().unwrap()],
+        vec![
+            "simulate",
+            aydelott.to_str().unwrap(),
+            "--out",
+            history.to_str().unwrap(),
+        ],
+    ];
+    for args in commands {
+        let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+            .args(&args)
+            .stdout(full.try_clone().unwrap())
+            .output()
+            .unwrap();
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {e}");
+        assert!(
+            e.contains("cannot write to standard output") && !e.contains("panicked"),
+            "{args:?}: {e}"
+        );
+    }
+    std::fs::remove_dir_all(dir).ok();
 }

@@ -6,7 +6,8 @@ use super::{
     finish_statistics, integrator_text, set_meta, tally, write_run_json, RunError, RunReport, Shard,
 };
 use crate::campaign::Campaign;
-use crate::output::results_dir::Staging;
+use crate::output::results_dir::{failpoint, Staging};
+use crate::output::OutputError;
 use std::path::{Path, PathBuf};
 
 /// One shard directory as read back for a merge.
@@ -132,6 +133,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         rows += table::copy_rows(&mut writer, &file)?;
     }
     writer.finish()?;
+    failpoint("merge-after-instances").map_err(|source| OutputError::Io {
+        path: dir.clone(),
+        source,
+    })?;
     if rows != total {
         return Err(RunError::Input(format!(
             "the shards hold {rows} instances, the campaign {total}"
