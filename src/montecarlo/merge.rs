@@ -154,17 +154,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
             .count() as u64)
     };
     let (diverged, rejected) = (count_true("diverged")?, count_true("rejected")?);
-    let sum = |key: &str| {
-        shards
-            .iter()
-            .map(|s| s.run[key].as_u64().unwrap_or(0))
-            .sum::<u64>()
-    };
     let report = RunReport {
         instances: rows,
         diverged,
         rejected,
-        instance_steps: sum("instance_steps"),
+        instance_steps: table::read_u64(&inst_path, "steps")?.iter().sum(),
         wall_s: shards
             .iter()
             .map(|s| s.run["wall_s"].as_f64().unwrap_or(0.0))
