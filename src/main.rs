@@ -14,11 +14,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// `print!` that returns an error instead of panicking when stdout fails (a full disk: exit 1;
-/// a closed pipe ends the process quietly through the default SIGPIPE).
+/// a closed pipe: exit 0, see [`stdout_result`]).
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        write!(std::io::stdout().lock(), $($arg)*).context("cannot write to standard output")?
+        stdout_result(write!(std::io::stdout().lock(), $($arg)*))?
     }};
 }
 
@@ -26,8 +26,17 @@ macro_rules! out {
 macro_rules! outln {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        writeln!(std::io::stdout().lock(), $($arg)*).context("cannot write to standard output")?
+        stdout_result(writeln!(std::io::stdout().lock(), $($arg)*))?
     }};
+}
+
+/// A closed pipe (`cryoslosh check … | head`) ends the process quietly with exit 0, as `cat`
+/// does (Rust ignores SIGPIPE, so the write fails instead); any other failure is an error.
+fn stdout_result(r: std::io::Result<()>) -> anyhow::Result<()> {
+    match r {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        r => r.context("cannot write to standard output"),
+    }
 }
 
 #[derive(Parser)]
@@ -166,17 +175,9 @@ fn main() -> ExitCode {
     }
 }
 
-/// Process-wide settings made before any thread starts: the default SIGPIPE (Rust ignores it,
-/// so `cryoslosh check … | head` panicked on the closed pipe; now the process ends quietly as
-/// `cat` does), and a runtime directory for Mesa, whose window-system code prints "XDG_RUNTIME_DIR
+/// Process-wide settings made before any thread starts: a runtime directory for Mesa, whose window-system code prints "XDG_RUNTIME_DIR
 /// is invalid" when probing adapters on a machine without one (compute needs none).
 fn quiet_process_defaults() {
-    #[cfg(unix)]
-    // SAFETY: called first thing in main, before any other thread exists; SIG_DFL is a valid
-    // disposition for SIGPIPE.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
     let valid =
         std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
     if !valid {
@@ -419,6 +420,25 @@ const MAX_THREADS: usize = 1024;
 /// A history `--out` may not be one of the command's inputs (the campaign, an excitation table),
 /// nor anything but a regular file (a FIFO, device or symlink there would be replaced).
 fn check_history_out(out: &std::path::Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    // Never into a published results directory (its manifest would no longer hold).
+    if let Some(parent) = out.parent() {
+        let parent = if parent.as_os_str().is_empty() {
+            std::path::Path::new(".")
+        } else {
+            parent
+        };
+        if parent
+            .join(cryoslosh::output::results_dir::MANIFEST)
+            .is_file()
+        {
+            return Err(BadInput(format!(
+                "--out {}: inside a results directory ({}); write the history elsewhere",
+                out.display(),
+                parent.display()
+            ))
+            .into());
+        }
+    }
     if let Ok(m) = std::fs::symlink_metadata(out) {
         if !m.is_file() {
             return Err(BadInput(format!(

@@ -334,6 +334,11 @@ fn a_closed_pipe_ends_quietly() {
     let o = child.wait_with_output().unwrap();
     let e = stderr(&o);
     assert!(!e.contains("panicked"), "{e}");
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "a closed pipe is not an error: {e}"
+    );
 }
 
 /// A reviewer's attack: one key dispersed under two spellings (one sample silently overwrote the

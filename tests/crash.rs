@@ -411,3 +411,187 @@ fn a_full_disk_at_any_point_leaves_the_previous_result() {
     assert!(snapshot(&out) == old);
     std::fs::remove_dir_all(root).ok();
 }
+
+/// A second attack on crash consistency: a resumed run trusted a copied part (published 1500
+/// distinct ids of 2000 with exit 0); a kill after the last block threw the work away; a history
+/// could be written into a published result; an emptied manifest or an edited run.json passed
+/// merge; the odd shard was not named; a symlink `--out` got the wrong reason.
+#[test]
+fn second_attack_regressions() {
+    let camp = campaign_path("mhtb_selfpress");
+    let camp = camp.to_str().unwrap();
+    let root = scratch("attack2");
+    let args = |out: &Path, extra: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = [
+            "run",
+            camp,
+            "--out",
+            out.to_str().unwrap(),
+            "--instances",
+            "120",
+            "--seed",
+            "2",
+            "--backend",
+            "cpu",
+            "--chunk-size",
+            "40",
+            "--set",
+            "phases.0.duration_s=600",
+        ]
+        .iter()
+        .map(|x| x.to_string())
+        .collect();
+        v.extend(extra.iter().map(|x| x.to_string()));
+        v
+    };
+    let call = |a: &[String], fp: Option<&str>| {
+        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+        cryoslosh(&refs, fp)
+    };
+    let whole = root.join("whole");
+    assert!(call(&args(&whole, &[]), None).status.success());
+
+    // A part copied over another is refused on resume.
+    let r = root.join("r");
+    assert!(!call(&args(&r, &[]), Some("after-part-1")).status.success());
+    let parts = root.join(".r.partial").join("parts");
+    std::fs::copy(
+        parts.join("part-000000000000.parquet"),
+        parts.join("part-000000000040.parquet"),
+    )
+    .unwrap();
+    let o = call(&args(&r, &["--resume"]), None);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("changed after it was committed"));
+    assert!(!r.exists());
+
+    // Killed after every block is integrated: the resume integrates nothing and finishes.
+    for point in ["after-instances", "after-statistics", "before-publish"] {
+        let k = root.join(format!("k-{point}"));
+        assert!(
+            !call(&args(&k, &[]), Some(point)).status.success(),
+            "{point}"
+        );
+        let o = call(&args(&k, &["--resume"]), None);
+        assert!(
+            o.status.success(),
+            "{point}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        for f in ["instances.parquet", "statistics.parquet"] {
+            assert!(
+                std::fs::read(whole.join(f)).unwrap() == std::fs::read(k.join(f)).unwrap(),
+                "{point}: {f}"
+            );
+        }
+    }
+
+    // No history into a published result.
+    let o = cryoslosh(
+        &[
+            "simulate",
+            camp,
+            "--out",
+            whole.join("instances.parquet").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let o = cryoslosh(
+        &[
+            "simulate",
+            camp,
+            "--out",
+            whole.join("extra.parquet").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!whole.join("extra.parquet").exists());
+
+    // A symlink --out, and one under a file, get their own reasons (exit 2).
+    #[cfg(unix)]
+    {
+        let link = root.join("link");
+        std::os::unix::fs::symlink(&whole, &link).unwrap();
+        let o = call(&args(&link, &["--force"]), None);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&o.stderr).contains("symbolic link"));
+    }
+    let o = call(&args(&whole.join("run.json").join("sub"), &[]), None);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is a file"));
+
+    // Merge: an emptied manifest, a run.json whose counts disagree with the rows (manifest
+    // re-hashed), a shard of another seed (named).
+    let shard = |name: &str, spec: &str, seed: &str| {
+        let d = root.join(name);
+        let mut a = args(&d, &["--shard", spec]);
+        let i = a.iter().position(|x| x == "--seed").unwrap();
+        a[i + 1] = seed.to_string();
+        assert!(call(&a, None).status.success());
+        d
+    };
+    let s0 = shard("s0", "0/2", "2");
+    let s1 = shard("s1", "1/2", "2");
+    let other = shard("o1", "1/2", "3");
+    let merge = |dirs: &[&Path]| {
+        let mut a = vec!["merge".to_string()];
+        a.extend(dirs.iter().map(|d| d.to_str().unwrap().to_string()));
+        a.extend([
+            "--out".to_string(),
+            root.join("m").to_str().unwrap().to_string(),
+        ]);
+        call(&a, None)
+    };
+    let o = merge(&[&s0, &other]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("cryoslosh.seed") && err.contains("o1"),
+        "{err}"
+    );
+    let manifest = s1.join("manifest.json");
+    let kept = std::fs::read(&manifest).unwrap();
+    std::fs::write(&manifest, r#"{"files":{},"version":"x"}"#).unwrap();
+    let o = merge(&[&s0, &s1]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("does not list"));
+    std::fs::write(&manifest, &kept).unwrap();
+    if common::python_with("pyarrow") {
+        let script = format!(
+            "import json, hashlib\n\
+             r = json.load(open('{0}/run.json')); r['diverged'] = 5\n\
+             data = json.dumps(r).encode(); open('{0}/run.json', 'wb').write(data)\n\
+             m = json.load(open('{0}/manifest.json'))\n\
+             m['files']['run.json'] = {{'bytes': len(data), 'sha256': hashlib.sha256(data).hexdigest()}}\n\
+             json.dump(m, open('{0}/manifest.json', 'w'))\n",
+            s1.display()
+        );
+        let py = Command::new("python3")
+            .args(["-c", &script])
+            .output()
+            .unwrap();
+        assert!(
+            py.status.success(),
+            "{}",
+            String::from_utf8_lossy(&py.stderr)
+        );
+        let o = merge(&[&s0, &s1]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("run.json says diverged 5"), "{err}");
+    }
+    assert!(!root.join("m").exists());
+    std::fs::remove_dir_all(root).ok();
+}

@@ -99,7 +99,7 @@ fn cli_replay_reports_bit_equality_and_refuses_an_instance_beyond_the_run() {
     );
     let dir = scratch("cli");
     run(&c, &dir, 12, Shard::ALL);
-    let hist = dir.join("h.parquet");
+    let hist = dir.with_extension("h.parquet"); // beside the results, never inside
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
         .args([
             "simulate",

@@ -1,6 +1,7 @@
 //! Resumable runs: every block the engine integrates is committed as a part file
 //! (`parts/part-<first instance>.parquet`) followed by `progress.json` (what the run is, how far
-//! it got and its running counts), inside the staging directory. A killed run leaves them;
+//! it got, its running counts and every part's row range and SHA-256), in the run's working
+//! directory (`.DIR.partial`, removed once the result is published). A killed run leaves them;
 //! `run --resume` checks that it is the same run, re-reads the parts and continues. At the end
 //! the parts are joined into `instances.parquet` exactly as `merge` joins shards, so the result
 //! is byte-identical to an uninterrupted run.
@@ -53,6 +54,7 @@ pub fn commit(
     identity: &serde_json::Value,
     block: &[InstanceRecord],
     counts: &Counts,
+    parts_so_far: &mut Vec<serde_json::Value>,
 ) -> Result<(), RunError> {
     let Some(first) = block.first() else {
         return Ok(());
@@ -62,16 +64,28 @@ pub fn commit(
         path: parts.clone(),
         source,
     })?;
-    let mut w = InstanceWriter::create(
-        &parts.join(format!("part-{:012}.parquet", first.instance)),
-        d,
-        Vec::new(),
-    )?;
+    let name = format!("part-{:012}.parquet", first.instance);
+    let path = parts.join(&name);
+    let mut w = InstanceWriter::create(&path, d, Vec::new())?;
     for r in block {
         w.push(r)?;
     }
     w.finish()?;
+    let (bytes, sha) = crate::output::results_dir::digest(&path).map_err(|source| {
+        crate::output::OutputError::Io {
+            path: path.clone(),
+            source,
+        }
+    })?;
+    parts_so_far.push(serde_json::json!({
+        "file": name,
+        "first": first.instance,
+        "rows": block.len(),
+        "bytes": bytes,
+        "sha256": sha,
+    }));
     let json = serde_json::json!({
+        "parts": parts_so_far,
         "identity": identity,
         "completed": counts.completed,
         "steps": counts.steps,
@@ -83,9 +97,14 @@ pub fn commit(
     Ok(())
 }
 
-/// An interrupted run's state: its counts and its part files in instance order (only those the
-/// progress covers; a part written after the last progress is dropped).
-pub fn load(dir: &Path, identity: &serde_json::Value) -> Result<(Counts, Vec<PathBuf>), RunError> {
+/// An interrupted run's state: its counts, its part records and the part files in instance
+/// order. Every part the progress lists must be whole (its SHA-256) and hold exactly its rows,
+/// contiguous from `first_instance`; a part written after the last progress is dropped.
+pub fn load(
+    dir: &Path,
+    identity: &serde_json::Value,
+    first_instance: u64,
+) -> Result<(Counts, Vec<serde_json::Value>, Vec<PathBuf>), RunError> {
     let bad = |why: String| RunError::Input(format!("--resume: {why}"));
     let text = std::fs::read_to_string(dir.join(PROGRESS))
         .map_err(|_| bad("the interrupted run committed nothing yet: run it again".into()))?;
@@ -113,28 +132,47 @@ pub fn load(dir: &Path, identity: &serde_json::Value) -> Result<(Counts, Vec<Pat
             })
             .unwrap_or_default(),
     };
-    let mut parts: Vec<PathBuf> = std::fs::read_dir(parts_dir(dir))
-        .map(|it| it.filter_map(Result::ok).map(|e| e.path()).collect())
-        .unwrap_or_default();
-    parts.sort();
-    // Keep the parts whose rows the progress counts.
-    let mut kept = Vec::new();
-    let mut rows = 0u64;
-    for part in parts {
-        if rows >= counts.completed {
-            let _ = std::fs::remove_file(&part);
-            continue;
+    let records: Vec<serde_json::Value> = p["parts"].as_array().cloned().unwrap_or_default();
+    let mut files = Vec::new();
+    let mut next = first_instance;
+    for r in &records {
+        let name = r["file"].as_str().unwrap_or_default();
+        let path = parts_dir(dir).join(name);
+        let (bytes, sha) = crate::output::results_dir::digest(&path)
+            .map_err(|e| bad(format!("part {name}: {e}: run without --resume")))?;
+        if r["bytes"].as_u64() != Some(bytes) || r["sha256"].as_str() != Some(sha.as_str()) {
+            return Err(bad(format!(
+                "part {name} changed after it was committed: run without --resume"
+            )));
         }
-        rows += table::read_u64(&part, "instance")?.len() as u64;
-        kept.push(part);
+        let ids = table::read_u64(&path, "instance")?;
+        let rows = r["rows"].as_u64().unwrap_or(0);
+        if r["first"].as_u64() != Some(next)
+            || ids.len() as u64 != rows
+            || ids.iter().zip(next..).any(|(&a, b)| a != b)
+        {
+            return Err(bad(format!(
+                "part {name} does not hold instances {next} to {}: run without --resume",
+                next + rows.saturating_sub(1)
+            )));
+        }
+        next += rows;
+        files.push(path);
     }
-    if rows != counts.completed {
+    if next - first_instance != counts.completed {
         return Err(bad(format!(
-            "the parts hold {rows} instances, the progress says {}: run without --resume",
+            "the parts hold {} instances, the progress says {}: run without --resume",
+            next - first_instance,
             counts.completed
         )));
     }
-    Ok((counts, kept))
+    // Parts written after the last progress (a kill between the two) are not part of the run.
+    for f in parts(dir) {
+        if !files.contains(&f) {
+            let _ = std::fs::remove_file(f);
+        }
+    }
+    Ok((counts, records, files))
 }
 
 /// The part files of `dir` in instance order.
@@ -146,20 +184,19 @@ pub fn parts(dir: &Path) -> Vec<PathBuf> {
     parts
 }
 
-/// Join the parts into `dir/instances.parquet` with `meta`, then remove the parts and the
-/// progress file.
+/// Join the parts of the working directory `work` into `out/instances.parquet` with `meta`.
+/// The parts stay until the result is published (a kill before that can still be resumed).
 pub fn assemble(
-    dir: &Path,
+    work: &Path,
+    out: &Path,
     d: &Dispersions,
     meta: Vec<(String, String)>,
 ) -> Result<PathBuf, RunError> {
-    let path = dir.join("instances.parquet");
+    let path = out.join("instances.parquet");
     let mut w = InstanceWriter::create(&path, d, meta)?;
-    for part in parts(dir) {
+    for part in parts(work) {
         table::copy_rows(&mut w, &part)?;
     }
     w.finish()?;
-    let _ = std::fs::remove_dir_all(parts_dir(dir));
-    let _ = std::fs::remove_file(dir.join(PROGRESS));
     Ok(path)
 }

@@ -28,6 +28,15 @@ fn read_shard(dir: &Path) -> Result<ShardDir, RunError> {
         return Err(bad("not a results directory (no instances.parquet)".into()));
     }
     crate::output::results_dir::verify(dir).map_err(bad)?;
+    let listed = std::fs::read_to_string(dir.join(crate::output::results_dir::MANIFEST))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .unwrap_or_default();
+    for f in ["instances.parquet", "statistics.parquet", "run.json"] {
+        if listed["files"].get(f).is_none() {
+            return Err(bad(format!("manifest.json does not list {f}")));
+        }
+    }
     let meta = table::read_metadata(&dir.join("instances.parquet"))?;
     let shard = meta_value(&meta, "cryoslosh.shard")
         .and_then(Shard::parse)
@@ -107,8 +116,18 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         "cryoslosh.version",
     ] {
         if !same(key) {
+            let odd: Vec<String> = shards
+                .iter()
+                .filter(|s| meta_value(&s.meta, key) != meta_value(&first.meta, key))
+                .map(|s| format!("shard {} ({})", s.shard, s.dir.display()))
+                .collect();
             return Err(RunError::Input(format!(
-                "the shards differ in {key}: they are not one campaign"
+                "the shards differ in {key}: {} differ{} from shard {} ({}); they are not one \
+                 campaign",
+                odd.join(", "),
+                if odd.len() == 1 { "s" } else { "" },
+                first.shard,
+                first.dir.display()
             )));
         }
     }
@@ -133,6 +152,24 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         rows += table::copy_rows(&mut writer, &file)?;
     }
     writer.finish()?;
+    // The shards' histories come along (their file names are instance numbers: no clashes).
+    for s in &shards {
+        let from = s.dir.join("histories");
+        let Ok(entries) = std::fs::read_dir(&from) else {
+            continue;
+        };
+        let to = dir.join("histories");
+        std::fs::create_dir_all(&to).map_err(|source| OutputError::Io {
+            path: to.clone(),
+            source,
+        })?;
+        for e in entries.filter_map(Result::ok) {
+            std::fs::copy(e.path(), to.join(e.file_name())).map_err(|source| OutputError::Io {
+                path: to.join(e.file_name()),
+                source,
+            })?;
+        }
+    }
     failpoint("merge-after-instances").map_err(|source| OutputError::Io {
         path: dir.clone(),
         source,
@@ -254,6 +291,39 @@ fn verify_shard(c: &Campaign, s: &ShardDir, file: &Path, total: u64) -> Result<(
             show(&found),
             show(&want)
         )));
+    }
+    // run.json says what the rows say.
+    let rows_true = |name: &str| -> Result<u64, RunError> {
+        Ok(table::read_bool(file, name)?
+            .into_iter()
+            .filter(|&x| x)
+            .count() as u64)
+    };
+    for (key, declared, actual) in [
+        (
+            "diverged",
+            s.run["diverged"].as_u64(),
+            rows_true("diverged")?,
+        ),
+        (
+            "rejected",
+            s.run["rejected"].as_u64(),
+            rows_true("rejected")?,
+        ),
+    ] {
+        if declared != Some(actual) {
+            return Err(bad(format!(
+                "run.json says {key} {}, its rows {actual}",
+                declared.map_or_else(|| "nothing".to_string(), |d| d.to_string())
+            )));
+        }
+    }
+    if s.run["shard"].as_str() != Some(s.shard.to_string().as_str())
+        || s.run["campaign_instances"].as_u64() != Some(total)
+    {
+        return Err(bad(
+            "run.json names another shard or instance count than its instances.parquet".into(),
+        ));
     }
     let ids = table::read_u64(file, "instance")?;
     let range = s.shard.range(total);

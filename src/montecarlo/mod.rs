@@ -341,6 +341,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let mut staging = Staging::begin(&o.out_dir, o.force, o.resume)?;
     staging.keep_on_failure();
     let dir = staging.path().to_path_buf();
+    let work = staging.work().to_path_buf();
     let plan = Plan {
         campaign: c,
         seed: o.seed,
@@ -366,9 +367,11 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         "target": o.target(c).map(|t| format!("{t:?}")),
     });
     let mut counts = checkpoint::Counts::default();
+    let mut part_records = Vec::new();
     let mut at = range.start;
     if o.resume {
-        let (done, parts) = checkpoint::load(&dir, &identity)?;
+        let (done, records, parts) = checkpoint::load(&work, &identity, range.start)?;
+        part_records = records;
         // Replay the committed rows through the stopping rule, part by part: parts end at its
         // check points, so it reaches the state it had.
         for part in &parts {
@@ -396,12 +399,12 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     type Message = (Vec<plan::InstanceRecord>, checkpoint::Counts);
     let (tx, rx) = std::sync::mpsc::sync_channel::<Message>(1);
     let outcome = std::thread::scope(|scope| -> Result<(), RunError> {
-        let (dir, identity) = (&dir, &identity);
+        let (work, identity, records) = (&work, &identity, &mut part_records);
         let writing = scope.spawn(move || -> Result<(), RunError> {
             for (k, (block, counts)) in rx.into_iter().enumerate() {
-                checkpoint::commit(dir, &c.dispersions, identity, &block, &counts)?;
+                checkpoint::commit(work, &c.dispersions, identity, &block, &counts, records)?;
                 failpoint(&format!("after-part-{k}")).map_err(|source| OutputError::Io {
-                    path: dir.to_path_buf(),
+                    path: work.to_path_buf(),
                     source,
                 })?;
             }
@@ -465,7 +468,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         None => o.instances,
     };
     meta.push(("cryoslosh.instances".into(), total.to_string()));
-    let inst_path = checkpoint::assemble(&dir, &c.dispersions, meta.clone())?;
+    let inst_path = checkpoint::assemble(&work, &dir, &c.dispersions, meta.clone())?;
     failpoint("after-instances").map_err(|source| OutputError::Io {
         path: dir.clone(),
         source,

@@ -30,13 +30,19 @@ pub enum ResultsDirError {
     )]
     Foreign { path: PathBuf, listing: String },
     /// `--resume` on a directory without an interrupted run.
-    #[error("--resume {0}: there is no interrupted run to resume there")]
-    NothingToResume(PathBuf),
+    #[error("--resume {path}: there is no interrupted run to resume there{}", if *complete { " (it holds a complete result)" } else { "" })]
+    NothingToResume { path: PathBuf, complete: bool },
+    /// `--out` is a symbolic link.
+    #[error("--out {0}: is a symbolic link; give the directory it points to, or another path")]
+    Symlink(PathBuf),
+    /// A component of `--out`'s parent is a file.
+    #[error("--out: {0} is a file, so no directory can be created under it")]
+    ParentIsAFile(PathBuf),
     /// `--out` names something other than a directory.
     #[error("--out {0}: exists and is not a directory")]
     NotADirectory(PathBuf),
     /// A filesystem operation failed.
-    #[error("cannot write results directory {path}: {source}")]
+    #[error("cannot write results directory {path}")]
     Io {
         path: PathBuf,
         #[source]
@@ -73,6 +79,7 @@ pub fn failpoint(name: &str) -> std::io::Result<()> {
 #[derive(Debug)]
 pub struct Staging {
     target: PathBuf,
+    work: PathBuf,
     staging: PathBuf,
     _lock: File,
     published: bool,
@@ -106,6 +113,21 @@ impl Staging {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
+        // Refuse a target that cannot be a results directory before anything is created.
+        if let Ok(m) = fs::symlink_metadata(target) {
+            if m.file_type().is_symlink() {
+                return Err(ResultsDirError::Symlink(target.to_path_buf()));
+            }
+            if !m.is_dir() {
+                return Err(ResultsDirError::NotADirectory(target.to_path_buf()));
+            }
+        }
+        if matches!(name.as_str(), "." | "..") || target.parent().is_none() {
+            return Err(ResultsDirError::NotADirectory(target.to_path_buf()));
+        }
+        if let Some(file) = parent.ancestors().find(|a| a.is_file()) {
+            return Err(ResultsDirError::ParentIsAFile(file.to_path_buf()));
+        }
         fs::create_dir_all(&parent).map_err(io(&parent))?;
         let lock_path = parent.join(format!(".{name}.lock"));
         let lock = File::options()
@@ -145,17 +167,25 @@ impl Staging {
             }
             Err(_) => {}
         }
-        let staging = parent.join(format!(".{name}.partial"));
+        // `.<name>.partial/` holds the command's working state (a run's committed blocks);
+        // `.<name>.partial/result/` the directory that will be published.
+        let work = parent.join(format!(".{name}.partial"));
+        let staging = work.join("result");
         if resume {
-            if !staging.is_dir() {
-                return Err(ResultsDirError::NothingToResume(target.to_path_buf()));
+            if !work.is_dir() {
+                return Err(ResultsDirError::NothingToResume {
+                    path: target.to_path_buf(),
+                    complete: target.join("run.json").is_file(),
+                });
             }
         } else {
-            let _ = fs::remove_dir_all(&staging);
-            fs::create_dir(&staging).map_err(io(&staging))?;
+            let _ = fs::remove_dir_all(&work);
+            fs::create_dir(&work).map_err(io(&work))?;
         }
+        fs::create_dir_all(&staging).map_err(io(&staging))?;
         Ok(Staging {
             target: target.to_path_buf(),
+            work,
             staging,
             _lock: lock,
             published: false,
@@ -163,9 +193,14 @@ impl Staging {
         })
     }
 
-    /// Where the command writes its files.
+    /// Where the command writes the files it publishes.
     pub fn path(&self) -> &Path {
         &self.staging
+    }
+
+    /// Where the command keeps working state that is not published (a run's committed blocks).
+    pub fn work(&self) -> &Path {
+        &self.work
     }
 
     /// Make the staged files the result: `manifest.json` (size and SHA-256 of every file) written
@@ -187,6 +222,9 @@ impl Staging {
             replace(&self.staging, &self.target)?;
         }
         self.published = true;
+        // The working state (and, after an exchange, the previous result) goes; a kill before
+        // this leaves it for the next command to remove.
+        let _ = fs::remove_dir_all(&self.work);
         if let Some(parent) = self.target.parent() {
             sync_dir(if parent.as_os_str().is_empty() {
                 Path::new(".")
@@ -209,7 +247,7 @@ impl Staging {
 impl Drop for Staging {
     fn drop(&mut self) {
         if !self.published && !self.keep {
-            let _ = fs::remove_dir_all(&self.staging);
+            let _ = fs::remove_dir_all(&self.work);
         }
     }
 }
@@ -235,11 +273,9 @@ fn replace(staging: &Path, target: &Path) -> Result<(), ResultsDirError> {
                 )
             };
             if rc == 0 {
-                // A failure here still leaves the new result published; the old one is removed
-                // by the next command.
+                // `staging` now holds the previous result: removed with the working directory
+                // (a kill here leaves it for the next command).
                 let _ = failpoint("after-exchange");
-                // `staging` now holds the previous result.
-                let _ = fs::remove_dir_all(staging);
                 return Ok(());
             }
             // EINVAL/ENOSYS (a filesystem without exchange): fall back to two renames.
