@@ -298,20 +298,11 @@ pub fn check_options(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
     Ok(())
 }
 
-/// File-level metadata of both Parquet files of a run.
-/// `instances` is `None` for a precision-driven run: its count is appended when it stops.
-fn metadata(
-    c: &Campaign,
-    backend: &str,
-    o_seed: u64,
-    instances: Option<u64>,
-    shard: Shard,
-) -> Vec<(String, String)> {
+/// File-level metadata of both Parquet files of a run (the instance count is added once the
+/// run knows where it stopped).
+fn metadata(c: &Campaign, backend: &str, o_seed: u64, shard: Shard) -> Vec<(String, String)> {
     let mut m = crate::history::provenance(c, backend, &shard.to_string());
     set_meta(&mut m, "cryoslosh.seed", o_seed.to_string());
-    if let Some(n) = instances {
-        m.push(("cryoslosh.instances".into(), n.to_string()));
-    }
     m.push((
         "cryoslosh.design".into(),
         c.dispersions.design.name().into(),
@@ -356,7 +347,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let mut stopper = o
         .target(c)
         .and_then(|t| until::Stopper::new(t.clone(), c.statistics.confidence, range.start, group));
-    let mut meta = metadata(c, engine.name(), o.seed, None, o.shard);
+    let mut meta = metadata(c, engine.name(), o.seed, o.shard);
     // What makes a run this run: a resumed run must be the same one.
     let identity = serde_json::json!({
         "campaign": c.text,

@@ -85,6 +85,23 @@ fn threshold_row(t: &Threshold, values: &[f64], level: f64) -> Row {
     }
 }
 
+/// The share of `ones` (1 = yes, 0 = no, NaN = not counted) with its Clopper–Pearson interval.
+fn fraction_row(name: &str, ones: &[f64], level: f64) -> Row {
+    let e = exceedance(ones, 0.5, Direction::Above, level);
+    Row {
+        confidence: level,
+        ..plain(StatRow {
+            quantity: name.into(),
+            statistic: "fraction".into(),
+            threshold: f64::NAN,
+            value: e.p,
+            ci_low: e.ci_low,
+            ci_high: e.ci_high,
+            n: e.n,
+        })
+    }
+}
+
 /// The thresholds reported: MEOP, cavitation margin < 0, the boil-off budget, then the
 /// campaign's own (a repeat of one of these is reported once).
 pub fn thresholds(spec: &Spec) -> Vec<Threshold> {
@@ -216,27 +233,9 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
     };
     let level = spec.plan.confidence;
     let mut rows = Vec::new();
-    let fraction = |name: &str, ones: &[f64]| {
-        threshold_row(
-            &Threshold {
-                key: String::new(),
-                quantity: name.into(),
-                side: Side::Above,
-                value: 0.5,
-            },
-            ones,
-            level,
-        )
-    };
-    let fraction_row = |name: &str, ones: &[f64]| {
-        let mut r = fraction(name, ones);
-        r.stat.statistic = "fraction".into();
-        r.stat.threshold = f64::NAN;
-        r
-    };
     for (name, flags) in [("diverged", &diverged), ("rejected", &rejected)] {
         let ones: Vec<f64> = flags.iter().map(|&x| f64::from(u8::from(x))).collect();
-        rows.push(fraction_row(name, &ones));
+        rows.push(fraction_row(name, &ones, level));
     }
     // Outcomes among the valid instances, with their Clopper–Pearson intervals.
     for name in ["depleted", "pressurant_exhausted"] {
@@ -244,7 +243,7 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
             .iter()
             .map(|&x| f64::from(u8::from(x)))
             .collect();
-        rows.push(fraction_row(name, &keep(ones)));
+        rows.push(fraction_row(name, &keep(ones), level));
     }
 
     let thresholds = thresholds(spec);
