@@ -216,7 +216,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             out!("{}", cryoslosh::campaign::describe(&c));
             out!(
                 "{}",
-                cryoslosh::campaign::statistics::describe(&c.statistics)
+                cryoslosh::campaign::statistics::describe(
+                    &c.statistics,
+                    c.dispersions.group_size()
+                )
             );
             out!("{}", simulate::plan::describe_step_plan(&c));
             let screen = montecarlo::screen::screen(&c, c.seed, c.instances);

@@ -66,6 +66,17 @@ pub struct Dispersions {
     pub correlations: Vec<(usize, usize, f64)>,
 }
 
+impl Dispersions {
+    /// Instances per Saltelli group (A, AB₁…AB_k, B: k + 2); 1 for the other designs. Counts
+    /// that must keep groups whole (a precision target's check points) are multiples of it.
+    pub fn group_size(&self) -> u64 {
+        match self.design {
+            Design::Saltelli => self.inputs.len() as u64 + 2,
+            _ => 1,
+        }
+    }
+}
+
 impl Default for Dispersions {
     fn default() -> Self {
         Dispersions {

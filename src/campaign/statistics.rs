@@ -331,7 +331,9 @@ pub(super) fn validate(
 }
 
 /// The section as `check` prints it.
-pub fn describe(p: &StatisticsPlan) -> String {
+/// `group` is the Saltelli group size (1 for other designs): the run checks its target at whole
+/// groups, so the interval shown is rounded up to one.
+pub fn describe(p: &StatisticsPlan, group: u64) -> String {
     use super::number;
     let list = |v: &[f64]| {
         if v.is_empty() {
@@ -383,7 +385,7 @@ pub fn describe(p: &StatisticsPlan) -> String {
         o += &format!(
             "  target: {what} to ±{}, checked every {} instances{}\n",
             number(t.half_width),
-            t.check_every,
+            t.check_every.div_ceil(group.max(1)) * group.max(1),
             t.max_instances
                 .map_or_else(String::new, |m| format!(", at most {m}"))
         );

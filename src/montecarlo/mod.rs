@@ -340,10 +340,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     };
     let range = o.shard.range(o.instances);
     histories::check(&o.histories, &range)?;
-    let group = match c.dispersions.design {
-        Design::Saltelli => c.dispersions.inputs.len() as u64 + 2,
-        _ => 1,
-    };
+    let group = c.dispersions.group_size();
     let mut stopper = o
         .target(c)
         .and_then(|t| until::Stopper::new(t.clone(), c.statistics.confidence, range.start, group));
