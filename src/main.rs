@@ -286,10 +286,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let start = std::time::Instant::now();
             let q = simulate::simulate(&c, &c.params, Some(&mut h));
             let wall = start.elapsed().as_secs_f64();
-            let diverged = q
-                .diverged
-                .then(|| q.diverged_reason.clone().unwrap_or_default());
-            let rows = cryoslosh::history::write_history(&out, &c, &h, &label, diverged.as_deref())
+            let rows = cryoslosh::history::write_history(&out, &c, &h, &label, q.divergence())
                 .with_context(|| format!("writing {}", out.display()))?;
             outln!("{}", simulate::describe_summary(&q));
             outln!(
@@ -480,12 +477,8 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
         );
     } else {
         let q = &record.summary;
-        let diverged = q
-            .diverged
-            .then(|| q.diverged_reason.clone().unwrap_or_default());
-        let rows =
-            cryoslosh::history::write_history(out, c, &h, &i.to_string(), diverged.as_deref())
-                .with_context(|| format!("writing {}", out.display()))?;
+        let rows = cryoslosh::history::write_history(out, c, &h, &i.to_string(), q.divergence())
+            .with_context(|| format!("writing {}", out.display()))?;
         outln!("{}", simulate::describe_summary(q));
         outln!("{} steps; {rows} rows → {}", q.steps, out.display());
     }

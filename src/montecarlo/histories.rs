@@ -177,10 +177,7 @@ pub fn write(
         let mut h = History::default();
         let q = simulate(&ci, &ci.params, Some(&mut h));
         let path = history_path(dir, i);
-        let diverged = q
-            .diverged
-            .then(|| q.diverged_reason.clone().unwrap_or_default());
-        crate::history::write_history(&path, &ci, &h, &i.to_string(), diverged.as_deref())?;
+        crate::history::write_history(&path, &ci, &h, &i.to_string(), q.divergence())?;
         files.push((i, Some(path)));
     }
     Ok(files)

@@ -145,10 +145,12 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
     set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());
     let inst_path = dir.join("instances.parquet");
     let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
-    let mut rows = 0;
+    let (mut rows, mut diverged, mut rejected) = (0, 0, 0);
     for s in &shards {
         let file = s.dir.join("instances.parquet");
-        verify_shard(&c, s, &file, total)?;
+        let (d, r) = verify_shard(&c, s, &file, total)?;
+        diverged += d;
+        rejected += r;
         rows += table::copy_rows(&mut writer, &file)?;
     }
     writer.finish()?;
@@ -183,14 +185,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         .and_then(|v| v.parse().ok())
         .unwrap_or(c.seed);
     let stats = finish_statistics(&c, &dir, total, seed, true, meta)?;
-    // Counts from the merged rows, never copied from the shards' run.json.
-    let count_true = |name: &str| -> Result<u64, RunError> {
-        Ok(table::read_bool(&inst_path, name)?
-            .into_iter()
-            .filter(|&x| x)
-            .count() as u64)
-    };
-    let (diverged, rejected) = (count_true("diverged")?, count_true("rejected")?);
+    // Counts from the rows (each shard's checked against its run.json), never copied.
     let report = RunReport {
         instances: rows,
         diverged,
@@ -260,7 +255,13 @@ fn refuse_output_among_inputs(dirs: &[PathBuf], out: &Path) -> Result<(), RunErr
 
 /// A shard's file must have the merged schema (names and types, in order) and hold exactly the
 /// instance ids of its declared range, in order.
-fn verify_shard(c: &Campaign, s: &ShardDir, file: &Path, total: u64) -> Result<(), RunError> {
+/// Returns the shard's diverged and rejected counts, read from its rows.
+fn verify_shard(
+    c: &Campaign,
+    s: &ShardDir,
+    file: &Path,
+    total: u64,
+) -> Result<(u64, u64), RunError> {
     let bad =
         |why: String| RunError::Input(format!("shard {} ({}): {why}", s.shard, s.dir.display()));
     let input_columns: Vec<String> = c
@@ -299,17 +300,10 @@ fn verify_shard(c: &Campaign, s: &ShardDir, file: &Path, total: u64) -> Result<(
             .filter(|&x| x)
             .count() as u64)
     };
+    let (diverged, rejected) = (rows_true("diverged")?, rows_true("rejected")?);
     for (key, declared, actual) in [
-        (
-            "diverged",
-            s.run["diverged"].as_u64(),
-            rows_true("diverged")?,
-        ),
-        (
-            "rejected",
-            s.run["rejected"].as_u64(),
-            rows_true("rejected")?,
-        ),
+        ("diverged", s.run["diverged"].as_u64(), diverged),
+        ("rejected", s.run["rejected"].as_u64(), rejected),
     ] {
         if declared != Some(actual) {
             return Err(bad(format!(
@@ -345,5 +339,5 @@ fn verify_shard(c: &Campaign, s: &ShardDir, file: &Path, total: u64) -> Result<(
             range.end
         )));
     }
-    Ok(())
+    Ok((diverged, rejected))
 }

@@ -362,8 +362,9 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         part_records = records;
         // Replay the committed rows through the stopping rule, part by part: parts end at its
         // check points, so it reaches the state it had.
-        for part in &parts {
-            let n = table::read_u64(part, "instance")?.len() as u64;
+        // (`load` checked each part's rows: its record says how many.)
+        for (part, record) in parts.iter().zip(&part_records) {
+            let n = record["rows"].as_u64().unwrap_or(0);
             if let Some(s) = &mut stopper {
                 s.observe_column(&table::read_f64(part, s.quantity())?);
             }

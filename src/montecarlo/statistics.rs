@@ -85,6 +85,15 @@ fn threshold_row(t: &Threshold, values: &[f64], level: f64) -> Row {
     }
 }
 
+/// `values` with NaN (= not counted) where `valid` is false.
+fn mask(values: Vec<f64>, valid: &[bool]) -> Vec<f64> {
+    values
+        .into_iter()
+        .zip(valid)
+        .map(|(x, &ok)| if ok { x } else { f64::NAN })
+        .collect()
+}
+
 /// The share of `ones` (1 = yes, 0 = no, NaN = not counted) with its Clopper–Pearson interval.
 fn fraction_row(name: &str, ones: &[f64], level: f64) -> Row {
     let e = exceedance(ones, 0.5, Direction::Above, level);
@@ -208,29 +217,18 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
                 SaltelliRow::A | SaltelliRow::B
             )
     };
-    let valid: Vec<bool> = diverged
-        .iter()
-        .zip(&rejected)
-        .enumerate()
-        .map(|(i, (d, r))| !d && !r && independent(i))
-        .collect();
-    let keep = |v: Vec<f64>| -> Vec<f64> {
-        v.into_iter()
-            .zip(&valid)
-            .map(|(x, &ok)| if ok { x } else { f64::NAN })
-            .collect()
-    };
     let all_valid: Vec<bool> = diverged
         .iter()
         .zip(&rejected)
         .map(|(d, r)| !d && !r)
         .collect();
-    let keep_all = |v: Vec<f64>| -> Vec<f64> {
-        v.into_iter()
-            .zip(&all_valid)
-            .map(|(x, &ok)| if ok { x } else { f64::NAN })
-            .collect()
-    };
+    let valid: Vec<bool> = all_valid
+        .iter()
+        .enumerate()
+        .map(|(i, &ok)| ok && independent(i))
+        .collect();
+    let keep = |v: Vec<f64>| mask(v, &valid);
+    let keep_all = |v: Vec<f64>| mask(v, &all_valid);
     let level = spec.plan.confidence;
     let mut rows = Vec::new();
     for (name, flags) in [("diverged", &diverged), ("rejected", &rejected)] {

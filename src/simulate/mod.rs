@@ -70,6 +70,15 @@ pub struct Summary {
     pub energy_error_rel: f64,
 }
 
+impl Summary {
+    /// Why the instance diverged, or `None` when it did not (the `cryoslosh.diverged` of its
+    /// history).
+    pub fn divergence(&self) -> Option<&str> {
+        self.diverged
+            .then(|| self.diverged_reason.as_deref().unwrap_or(""))
+    }
+}
+
 /// Bond number ρ_l |a| R² / σ below which surface tension, not the body force, shapes the free
 /// surface and the SP-106 analog no longer holds (low-gravity regime, Abramson NASA SP-106
 /// ch. 11 and Dodge 2000: capillary effects dominate as Bo falls towards 1–10).
