@@ -278,12 +278,11 @@ pub fn check_options(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
     if o.chunk_size == 0 {
         return Err(RunError::Input("--chunk-size must be at least 1".into()));
     }
-    let k = c.dispersions.inputs.len() as u64;
-    if c.dispersions.design == Design::Saltelli && !o.instances.is_multiple_of(k + 2) {
+    let (k, group) = (c.dispersions.inputs.len(), c.dispersions.group_size());
+    if !o.instances.is_multiple_of(group) {
         return Err(RunError::Input(format!(
-            "{}: the saltelli design with {k} inputs needs instances in multiples of k + 2 = {} (got {})",
+            "{}: the saltelli design with {k} inputs needs instances in multiples of k + 2 = {group} (got {})",
             c.path.display(),
-            k + 2,
             o.instances
         )));
     }

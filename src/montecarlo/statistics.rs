@@ -309,7 +309,7 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
 fn sobol_rows(q: &str, y: &[f64], spec: &Spec) -> Vec<Row> {
     let d = &spec.dispersions;
     let k = d.inputs.len();
-    let bases = (spec.total as usize) / (k + 2);
+    let bases = (spec.total / d.group_size()) as usize;
     let mut f_a = vec![f64::NAN; bases];
     let mut f_b = vec![f64::NAN; bases];
     let mut f_ab = vec![vec![f64::NAN; bases]; k];
@@ -359,16 +359,6 @@ fn sobol_rows(q: &str, y: &[f64], spec: &Spec) -> Vec<Row> {
         }
     }
     rows
-}
-
-/// Complete and total Saltelli groups behind the Sobol rows of `rows` (for the warning when
-/// diverged or rejected instances broke groups).
-pub fn sobol_groups(rows: &[Row], total: u64, k: usize) -> Option<(u64, u64)> {
-    let n = rows
-        .iter()
-        .find(|r| r.stat.statistic == "sobol_first")
-        .map(|r| r.stat.n)?;
-    Some((n, total / (k as u64 + 2)))
 }
 
 /// The smallest sample a (coverage, confidence) tolerance bound needs (its extreme value).
