@@ -16,8 +16,11 @@
 @group(0) @binding(4) var<storage, read> gas: array<GpuGas>;
 @group(0) @binding(5) var<storage, read_write> results: array<GpuResult>;
 @group(0) @binding(6) var<storage, read> control: GpuControl;
+@group(0) @binding(7) var<storage, read_write> phase_results: array<GpuPhaseResult>;
 
 var<private> P: GpuParams;
+// Index of the current phase's record in phase_results (instance × phase).
+var<private> PHASE_SLOT: u32;
 
 // ---------------------------------------------------------------- trajectory (flight.rs)
 
@@ -892,6 +895,7 @@ fn observe(r: ptr<function, GpuResult>, s: ptr<function, St>, t: f32, ev: Eval, 
         (*r).min_pressure_pa = pu;
         (*r).min_pressure_time_s = t;
     }
+    var ph = phase_results[PHASE_SLOT];
     if (d.burning) {
         let m = cavitation_margin(s, ev.x);
         if ((*r).drew == 0u || m.x < (*r).min_margin_m) {
@@ -900,11 +904,44 @@ fn observe(r: ptr<function, GpuResult>, s: ptr<function, St>, t: f32, ev: Eval, 
             (*r).min_margin_pa = m.y;
             (*r).min_margin_time_s = t;
         }
+        if (ph.drew == 0u || m.x < ph.min_margin_m) {
+            ph.drew = 1u;
+            ph.min_margin_m = m.x;
+        }
     }
-    (*r).max_slosh_angle_rad = max((*r).max_slosh_angle_rad, abs(slosh_angle(s, ev.x.sl)));
+    let angle = abs(slosh_angle(s, ev.x.sl));
+    (*r).last_angle_rad = angle;
+    (*r).max_slosh_angle_rad = max((*r).max_slosh_angle_rad, angle);
     let force = abs(ev.force);
     (*r).peak_slosh_force_n = max((*r).peak_slosh_force_n, force);
     (*r).peak_slosh_moment_n_m = max((*r).peak_slosh_moment_n_m, force * abs(P.lever_arm_m));
+    ph.peak_pressure_pa = max(ph.peak_pressure_pa, pu);
+    ph.min_pressure_pa = min(ph.min_pressure_pa, pu);
+    ph.max_slosh_angle_rad = max(ph.max_slosh_angle_rad, angle);
+    phase_results[PHASE_SLOT] = ph;
+}
+
+/// Phase record `slot` starts from the last observed state (hi + lo words) of `r`
+/// (simulate::qoi::Tracker::enter_phase): its start pressure, slosh angle, vapour mass and vented
+/// slots.
+fn enter_phase(slot: u32, r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>) {
+    var ph: GpuPhaseResult;
+    ph.entered = 1u;
+    ph.start_pressure_pa = (*r).p_ullage_pa;
+    ph.peak_pressure_pa = (*r).p_ullage_pa;
+    ph.min_pressure_pa = (*r).p_ullage_pa;
+    ph.max_slosh_angle_rad = (*r).last_angle_rad;
+    if (P.fidelity == FID_HOMOGENEOUS) {
+        ph.m_vapor_hi = (*r).m_vapor_kg;
+    } else {
+        ph.m_vapor_hi = (*hi)[M_V];
+        ph.m_vapor_lo = (*lo)[M_V];
+    }
+    ph.vent_v_hi = (*hi)[VENT_V];
+    ph.vent_v_lo = (*lo)[VENT_V];
+    ph.vent_g_hi = (*hi)[VENT_G];
+    ph.vent_g_lo = (*lo)[VENT_G];
+    phase_results[slot] = ph;
 }
 
 fn update_valve(pressure: f32, open: bool) -> bool {
@@ -1025,10 +1062,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let ph0 = phases[base];
         let d0 = phase_drive(ph0, 0.0, false);
         let ev0 = evaluate(&hi, d0, ph0.dt);
-        observe(&r, &hi, 0.0, ev0, d0);
         r.m_vapor0_kg = ev0.x.m_v;
         r.m_liquid0_kg = ev0.x.m_l;
         save_last(&r, ev0.x);
+        r.last_angle_rad = abs(slosh_angle(&hi, ev0.x.sl));
+        enter_phase(base, &r, &hi, &lo);
+        PHASE_SLOT = base;
+        observe(&r, &hi, 0.0, ev0, d0);
     } else {
         for (var j = 0u; j < NS; j++) {
             hi[j] = r.s_hi[j];
@@ -1040,6 +1080,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var have_k1 = r.have_k1 != 0u;
     var ip = r.phase;
     var k = r.step_in_phase;
+    PHASE_SLOT = base + min(ip, P.n_phases - 1u);
     var k2: St;
     var k3: St;
     var k4: St;
@@ -1054,6 +1095,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             k = 0u;
             have_k1 = false;
             r.phase_start_s = r.final_time_s;
+            if (ip < P.n_phases) {
+                PHASE_SLOT = base + ip;
+                enter_phase(PHASE_SLOT, &r, &hi, &lo);
+            }
             continue;
         }
         if (budget == 0u) {

@@ -482,7 +482,7 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
         outln!("{}", simulate::describe_summary(q));
         outln!("{} steps; {rows} rows → {}", q.steps, out.display());
     }
-    let diffs = montecarlo::replay::compare_row(dir, &c.dispersions, &record)?;
+    let diffs = montecarlo::replay::compare_row(dir, c, &record)?;
     let row = format!("row {i} of {}", dir.join("instances.parquet").display());
     if diffs.is_empty() {
         outln!("replay equals {row} bit for bit");

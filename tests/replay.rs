@@ -36,7 +36,7 @@ fn run(c: &Campaign, dir: &Path, n: u64, shard: Shard) {
 fn assert_replays(dir: &Path, instances: &[u64]) {
     for &i in instances {
         let (run, record) = replay::replay(dir, i, None).unwrap();
-        let diffs = replay::compare_row(dir, &run.campaign.dispersions, &record).unwrap();
+        let diffs = replay::compare_row(dir, &run.campaign, &record).unwrap();
         assert!(
             diffs.is_empty(),
             "{}: instance {i}: {diffs:?}",
@@ -86,7 +86,7 @@ fn replay_equals_the_row_of_a_shard_and_of_adaptive_steps() {
     assert_replays(&dir, &[10, 13, 19]);
     // Instance 0 lives in another shard: said, not silently compared.
     let (run, record) = replay::replay(&dir, 0, None).unwrap();
-    let err = replay::compare_row(&dir, &run.campaign.dispersions, &record).unwrap_err();
+    let err = replay::compare_row(&dir, &run.campaign, &record).unwrap_err();
     assert!(err.to_string().contains("no row for instance 0"), "{err}");
     std::fs::remove_dir_all(dir).ok();
 }

@@ -76,7 +76,7 @@ fn until_stops_at_the_same_instance_for_any_threads_and_chunks() {
     let (_, record) = replay::replay(&a, stop - 1, None).unwrap();
     let c = replay::run_campaign(&a).unwrap();
     assert_eq!(c.total, stop);
-    assert!(replay::compare_row(&a, &c.campaign.dispersions, &record)
+    assert!(replay::compare_row(&a, &c.campaign, &record)
         .unwrap()
         .is_empty());
     for d in [a, b] {

@@ -500,6 +500,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         .enumerate()
         .map(|(i, ph)| phase(&c, i, ph, dt_default, stepping.max_step_s, dir))
         .collect::<Result<Vec<_>, _>>()?;
+    phase_names(&c, &phases)?;
 
     let params = Params {
         fidelity,
@@ -583,6 +584,34 @@ fn stepping(c: &Checker, run: &RawRun) -> Result<Stepping, CampaignError> {
             .unwrap_or(f64::INFINITY),
         allow_coarse_step: run.allow_coarse_step.unwrap_or(false),
     })
+}
+
+/// Phase names label the per-phase QoI columns (`peak_pressure_pa.burn`) and address phases in
+/// key paths (`phases.burn.thrust_n`): each must be unique, made of letters, digits, `_` and
+/// `-`, and not a number (a number is an index).
+fn phase_names(c: &Checker, phases: &[Phase]) -> Result<(), CampaignError> {
+    for (i, ph) in phases.iter().enumerate() {
+        let key = format!("phases.{i}.name");
+        let name = &ph.name;
+        let word = name
+            .chars()
+            .all(|ch| ch.is_ascii_alphanumeric() || ch == '_' || ch == '-');
+        if name.is_empty() || !word || name.parse::<u64>().is_ok() {
+            return Err(c.err(
+                &key,
+                format!("{name:?}"),
+                "a name of ASCII letters, digits, '_' and '-' that is not a number",
+            ));
+        }
+        if let Some(j) = phases[..i].iter().position(|o| o.name == *name) {
+            return Err(c.err(
+                &key,
+                format!("{name:?}"),
+                format!("a name no other phase has (phases.{j} is also {name:?})"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn phase(

@@ -135,7 +135,9 @@ pub fn open(hardware_only: bool) -> Result<Gpu, GpuError> {
         required_limits: wgpu::Limits {
             max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
             max_buffer_size: limits.max_buffer_size,
-            max_storage_buffers_per_shader_stage: 7,
+            // The kernel binds 8 storage buffers (`GpuEngine::dispatch`): WebGPU's default limit,
+            // which every Vulkan, Metal and D3D12 adapter meets.
+            max_storage_buffers_per_shader_stage: 8,
             ..wgpu::Limits::downlevel_defaults()
         },
         ..Default::default()

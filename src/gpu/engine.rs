@@ -7,7 +7,8 @@
 
 use super::context::{Gpu, GpuError};
 use super::params::{
-    fluid_records, join, GpuControl, GpuParams, GpuPhase, GpuResult, Tables, DIVERGED_REASONS,
+    fluid_records, join, GpuControl, GpuParams, GpuPhase, GpuPhaseResult, GpuResult, Tables,
+    DIVERGED_REASONS,
 };
 use super::props::{props_wgsl, GpuFluid, GpuGas};
 use crate::campaign::Integrator;
@@ -15,9 +16,9 @@ use crate::engine::Engine;
 use crate::model::derive::Derived;
 use crate::model::flight::Phase;
 use crate::model::params::{Fidelity, Params};
-use crate::model::state::{State, M_V, NS};
+use crate::model::state::{State, M_V, NS, VENT_G, VENT_V};
 use crate::montecarlo::plan::{InstanceRecord, Plan};
-use crate::simulate::{finish_summary, initial_state, Summary};
+use crate::simulate::{cumulative, finish_summary, initial_state, PhaseSummary, Summary};
 use rayon::prelude::*;
 use std::ops::Range;
 use wgpu::util::DeviceExt;
@@ -33,6 +34,7 @@ pub fn kernel_source() -> String {
         GpuParams::wgsl(),
         GpuPhase::wgsl(),
         GpuResult::wgsl(),
+        GpuPhaseResult::wgsl(),
         GpuControl::wgsl(),
         include_str!("../../shaders/model.wgsl").to_string(),
     ]
@@ -111,6 +113,7 @@ impl GpuEngine {
             size_of::<GpuParams>(),
             size_of::<GpuResult>(),
             n_phases.max(1) * size_of::<GpuPhase>(),
+            n_phases.max(1) * size_of::<GpuPhaseResult>(),
         ]
         .into_iter()
         .max()
@@ -120,7 +123,8 @@ impl GpuEngine {
         by_memory.min(by_groups).max(1)
     }
 
-    /// Integrate prepared device instances; results in the same order.
+    /// Integrate prepared device instances; results in the same order, and the phase records
+    /// (instance × phase, like `phases`).
     fn dispatch(
         &self,
         fluid: &GpuFluid,
@@ -129,7 +133,7 @@ impl GpuEngine {
         phases: &[GpuPhase],
         table: &[f32],
         max_steps: u64,
-    ) -> Result<Vec<GpuResult>, GpuError> {
+    ) -> Result<(Vec<GpuResult>, Vec<GpuPhaseResult>), GpuError> {
         let device = &self.gpu.device;
         let storage = |label: &str, bytes: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -163,15 +167,30 @@ impl GpuEngine {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        let phase_size = (phases.len() * size_of::<GpuPhaseResult>()) as u64;
+        let b_phase_results = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("phase results"),
+            size: phase_size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        // One readback buffer: the results, then the phase records.
         let b_read = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
-            size,
+            size: size + phase_size,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let layout = self.pipeline.get_bind_group_layout(0);
         let entries: Vec<wgpu::BindGroupEntry> = [
-            &b_params, &b_phases, &b_table, &b_fluid, &b_gas, &b_results, &b_control,
+            &b_params,
+            &b_phases,
+            &b_table,
+            &b_fluid,
+            &b_gas,
+            &b_results,
+            &b_control,
+            &b_phase_results,
         ]
         .iter()
         .enumerate()
@@ -196,6 +215,7 @@ impl GpuEngine {
             pass.dispatch_workgroups((params.len() as u32).div_ceil(WORKGROUP), 1, 1);
         }
         enc.copy_buffer_to_buffer(&b_results, 0, &b_read, 0, size);
+        enc.copy_buffer_to_buffer(&b_phase_results, 0, &b_read, size, phase_size);
         let index = self.gpu.queue.submit([enc.finish()]);
         let (tx, rx) = std::sync::mpsc::channel();
         b_read.map_async(wgpu::MapMode::Read, .., move |r| {
@@ -213,7 +233,9 @@ impl GpuEngine {
         let view = b_read
             .get_mapped_range(..)
             .map_err(|e| GpuError::Runtime(e.to_string()))?;
-        let out = bytemuck::cast_slice::<u8, GpuResult>(&view).to_vec();
+        let (head, tail) = view.split_at(size as usize);
+        let out = bytemuck::cast_slice::<u8, GpuResult>(head).to_vec();
+        let phase_out = bytemuck::cast_slice::<u8, GpuPhaseResult>(tail).to_vec();
         drop(view);
         b_read.unmap();
         if let Some(k) = out.iter().position(|r| r.done == 0) {
@@ -222,7 +244,7 @@ impl GpuEngine {
                  steps: the driver cut the kernel short"
             )));
         }
-        Ok(out)
+        Ok((out, phase_out))
     }
 }
 
@@ -244,8 +266,13 @@ fn prepare(plan: &Plan, i: u64) -> Prepared {
     Prepared::Done(Box::new(plan.record(i, inputs, resolved)))
 }
 
-/// The instance summary from the kernel's record.
-fn summarize(p: &Params, s0: &State, r: &GpuResult, phase_names: &[String]) -> Summary {
+/// The instance summary from the kernel's record and its phase records.
+fn summarize(
+    p: &Params,
+    s0: &State,
+    (r, phase_records): (&GpuResult, &[GpuPhaseResult]),
+    phase_names: &[String],
+) -> Summary {
     let mut s = [0.0; NS];
     for (i, v) in s.iter_mut().enumerate() {
         *v = join(r.s_hi[i], r.s_lo[i]);
@@ -306,6 +333,8 @@ fn summarize(p: &Params, s0: &State, r: &GpuResult, phase_names: &[String]) -> S
     } else {
         s0[M_V]
     };
+    let phases = phase_summaries(phase_records, phase_names, m_vapor0, (&s, x.m_vapor_kg));
+    let q = Summary { phases, ..q };
     finish_summary(
         q,
         p,
@@ -316,6 +345,41 @@ fn summarize(p: &Params, s0: &State, r: &GpuResult, phase_names: &[String]) -> S
         &x,
         u64::from(r.steps),
     )
+}
+
+/// The phases an instance entered from their kernel records (`simulate::qoi::Tracker`): a phase
+/// ends where the next one starts, the last one entered at the instance's end (`end`: final state
+/// and vapour mass, kg); amounts count from the initial vapour mass `m_vapor0`, kg.
+fn phase_summaries(
+    records: &[GpuPhaseResult],
+    names: &[String],
+    m_vapor0: f64,
+    end: (&State, f64),
+) -> Vec<PhaseSummary> {
+    let start = |ph: &GpuPhaseResult| {
+        let mut s = [0.0; NS];
+        s[VENT_V] = join(ph.vent_v_hi, ph.vent_v_lo);
+        s[VENT_G] = join(ph.vent_g_hi, ph.vent_g_lo);
+        cumulative(&s, join(ph.m_vapor_hi, ph.m_vapor_lo), m_vapor0)
+    };
+    let entered: Vec<&GpuPhaseResult> = records.iter().take_while(|ph| ph.entered != 0).collect();
+    let f = f64::from;
+    entered
+        .iter()
+        .enumerate()
+        .map(|(i, ph)| {
+            let mut q = PhaseSummary::start(&names[i], f(ph.start_pressure_pa), start(ph));
+            q.peak_pressure_pa = f(ph.peak_pressure_pa);
+            q.min_pressure_pa = f(ph.min_pressure_pa);
+            q.max_slosh_angle_rad = f(ph.max_slosh_angle_rad);
+            q.min_cavitation_margin_m = (ph.drew != 0).then(|| f(ph.min_margin_m));
+            q.close(match entered.get(i + 1) {
+                Some(next) => start(next),
+                None => cumulative(end.0, end.1, m_vapor0),
+            });
+            q
+        })
+        .collect()
 }
 
 /// Why a campaign with `campaign.integrator = "dopri5"` does not run here.
@@ -363,14 +427,15 @@ impl Engine for GpuEngine {
                 params.push(GpuParams::new(&d.params, n_phases, &d.s0));
                 phases.extend(d.phases.iter().map(|ph| GpuPhase::new(ph, &mut tables)));
             }
-            let results = self
+            let (results, phase_results) = self
                 .dispatch(&fluid, &gas, &params, &phases, &tables.rows, max_steps)
                 .map_err(|e| e.to_string())?;
             let summaries: Vec<Summary> = batch
                 .par_iter()
                 .zip(&results)
-                .map(|(&k, r)| match &prepared[k] {
-                    Prepared::Device(d) => summarize(&d.params, &d.s0, r, &names),
+                .zip(phase_results.par_chunks(n_phases))
+                .map(|((&k, r), ph)| match &prepared[k] {
+                    Prepared::Device(d) => summarize(&d.params, &d.s0, (r, ph), &names),
                     Prepared::Done(_) => unreachable!("batch holds device instances only"),
                 })
                 .collect();

@@ -156,6 +156,8 @@ gpu_struct! {
         pub m_liquid_kg: f32,
         /// Relief-valve openings; pressurant exhausted and tank dry, with their times.
         pub relief_cycles: u32,
+        /// |slosh angle| at the last observation, rad (a phase entered there starts with it).
+        pub last_angle_rad: f32,
         /// The slosh analog left its range (flag) and for how long, s.
         pub slosh_out: u32,
         pub slosh_out_time_s: f32,
@@ -170,6 +172,27 @@ gpu_struct! {
         pub s_hi: [f32; NS],
         pub s_lo: [f32; NS],
         pub k1: [f32; NS],
+    }
+}
+
+gpu_struct! {
+    /// One phase of one instance as the kernel saw it (`simulate::PhaseSummary`): whether it was
+    /// entered, its start values (pressure; vapour mass and vented slots in hi + lo words) and
+    /// its extremes. Indexed like the phases, instance × phase.
+    pub struct GpuPhaseResult {
+        pub entered: u32,
+        pub drew: u32,
+        pub start_pressure_pa: f32,
+        pub peak_pressure_pa: f32,
+        pub min_pressure_pa: f32,
+        pub min_margin_m: f32,
+        pub max_slosh_angle_rad: f32,
+        pub m_vapor_hi: f32,
+        pub m_vapor_lo: f32,
+        pub vent_v_hi: f32,
+        pub vent_v_lo: f32,
+        pub vent_g_hi: f32,
+        pub vent_g_lo: f32,
     }
 }
 

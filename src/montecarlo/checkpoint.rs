@@ -9,7 +9,7 @@
 use super::plan::InstanceRecord;
 use super::table::{self, InstanceWriter};
 use super::RunError;
-use crate::campaign::dispersion::Dispersions;
+use crate::campaign::Campaign;
 use crate::output::atomic::write_atomic;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -50,7 +50,7 @@ fn parts_dir(dir: &Path) -> PathBuf {
 /// names a part that is not whole).
 pub fn commit(
     dir: &Path,
-    d: &Dispersions,
+    c: &Campaign,
     identity: &serde_json::Value,
     block: &[InstanceRecord],
     counts: &Counts,
@@ -66,7 +66,8 @@ pub fn commit(
     })?;
     let name = format!("part-{:012}.parquet", first.instance);
     let path = parts.join(&name);
-    let mut w = InstanceWriter::create(&path, d, Vec::new())?;
+    let phases = table::phase_names(c);
+    let mut w = InstanceWriter::create(&path, &c.dispersions, &phases, Vec::new())?;
     for r in block {
         w.push(r)?;
     }
@@ -189,11 +190,12 @@ pub fn parts(dir: &Path) -> Vec<PathBuf> {
 pub fn assemble(
     work: &Path,
     out: &Path,
-    d: &Dispersions,
+    c: &Campaign,
     meta: Vec<(String, String)>,
 ) -> Result<PathBuf, RunError> {
     let path = out.join("instances.parquet");
-    let mut w = InstanceWriter::create(&path, d, meta)?;
+    let phases = table::phase_names(c);
+    let mut w = InstanceWriter::create(&path, &c.dispersions, &phases, meta)?;
     for part in parts(work) {
         table::copy_rows(&mut w, &part)?;
     }

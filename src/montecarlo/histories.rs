@@ -4,7 +4,7 @@
 //! a margin can be plotted without a second command.
 
 use super::plan::Plan;
-use super::table::{self, QOI_F64};
+use super::table;
 use super::RunError;
 use crate::campaign::Campaign;
 use crate::simulate::{simulate, History};
@@ -39,12 +39,8 @@ pub fn parse(spec: &str) -> Result<Vec<Pick>, String> {
                     .map_err(|_| bad(item, "the index is not an integer"))?,
             )),
             ["worst", q, n] => {
-                if !QOI_F64.iter().any(|(name, _)| name == q) {
-                    let names: Vec<&str> = QOI_F64.iter().map(|(n, _)| *n).collect();
-                    return Err(bad(
-                        item,
-                        &format!("{q} is not one of {}", names.join(", ")),
-                    ));
+                if q.is_empty() {
+                    return Err(bad(item, "the quantity is empty"));
                 }
                 let n: u64 = n.parse().map_err(|_| bad(item, "N is not an integer"))?;
                 if n == 0 || n > 1000 {
@@ -64,8 +60,25 @@ pub fn parse(spec: &str) -> Result<Vec<Pick>, String> {
     Ok(picks)
 }
 
-/// Check the picks against the instances a run will hold (`range`).
-pub fn check(picks: &[Pick], range: &std::ops::Range<u64>) -> Result<(), RunError> {
+/// The `worst:` picks naming none of the QoI columns `qois`: the message for the first.
+pub fn check_quantities(picks: &[Pick], qois: &[String]) -> Result<(), String> {
+    for p in picks {
+        if let Pick::Worst { quantity, n } = p {
+            if !qois.iter().any(|name| name == quantity) {
+                return Err(format!(
+                    "--histories worst:{quantity}:{n}: {quantity} is not a quantity column of instances.parquet: {}",
+                    qois.join(", ")
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Check the picks against the campaign's QoI columns and the instances a run will hold
+/// (`range`).
+pub fn check(picks: &[Pick], c: &Campaign, range: &std::ops::Range<u64>) -> Result<(), RunError> {
+    check_quantities(picks, &table::qoi_names(&table::phase_names(c))).map_err(RunError::Input)?;
     for p in picks {
         if let Pick::Instance(i) = p {
             if !range.contains(i) {
@@ -199,7 +212,12 @@ mod tests {
                 Pick::Instance(17)
             ]
         );
-        assert!(parse("worst:peak_presure_pa:5").is_err());
+        let qois = table::qoi_names(&["burn".to_string()]);
+        let picks = |spec| parse(spec).unwrap();
+        assert!(check_quantities(&picks("worst:peak_presure_pa:5"), &qois).is_err());
+        assert!(check_quantities(&picks("worst:boiloff_kg.burn:5"), &qois).is_ok());
+        assert!(check_quantities(&picks("worst:boiloff_kg.coast:5"), &qois).is_err());
+        assert!(parse("worst::5").is_err());
         assert!(parse("worst:peak_pressure_pa:0").is_err());
         assert!(parse("instance:x").is_err());
         assert!(parse("").is_err());

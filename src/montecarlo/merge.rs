@@ -144,7 +144,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
     let mut meta = first.meta.clone();
     set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());
     let inst_path = dir.join("instances.parquet");
-    let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, meta.clone())?;
+    let phases = table::phase_names(&c);
+    let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, &phases, meta.clone())?;
     let (mut rows, mut diverged, mut rejected) = (0, 0, 0);
     for s in &shards {
         let file = s.dir.join("instances.parquet");
@@ -270,7 +271,7 @@ fn verify_shard(
         .iter()
         .map(|i| i.column.clone())
         .collect();
-    let expected = table::schema(&input_columns);
+    let expected = table::schema(&input_columns, &table::phase_names(c));
     let found = table::read_schema(file)?;
     let want: Vec<(String, String)> = expected
         .iter()

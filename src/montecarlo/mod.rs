@@ -200,10 +200,10 @@ impl RunError {
 
 /// A `[statistics]` or `--until` key naming a QoI column, or the error naming the key.
 fn check_quantity(c: &Campaign, key: &str, q: &str) -> Result<(), RunError> {
-    if table::QOI_F64.iter().any(|(name, _)| *name == q) {
+    let names = table::qoi_names(&table::phase_names(c));
+    if names.iter().any(|name| name == q) {
         return Ok(());
     }
-    let names: Vec<&str> = table::QOI_F64.iter().map(|(n, _)| *n).collect();
     Err(RunError::Campaign(CampaignError::Invalid {
         file: c.path.clone(),
         key: key.to_string(),
@@ -338,11 +338,14 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         total: o.instances,
     };
     let range = o.shard.range(o.instances);
-    histories::check(&o.histories, &range)?;
+    histories::check(&o.histories, c, &range)?;
     let group = c.dispersions.group_size();
-    let mut stopper = o
-        .target(c)
-        .and_then(|t| until::Stopper::new(t.clone(), c.statistics.confidence, range.start, group));
+    let mut stopper = o.target(c).and_then(|t| {
+        let phases = table::phase_names(c);
+        let qois = table::qoi_names(&phases);
+        let at = (range.start, group);
+        until::Stopper::new(t.clone(), c.statistics.confidence, at, &qois, phases.len())
+    });
     let mut meta = metadata(c, engine.name(), o.seed, o.shard);
     // What makes a run this run: a resumed run must be the same one.
     let identity = serde_json::json!({
@@ -390,7 +393,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         let (work, identity, records) = (&work, &identity, &mut part_records);
         let writing = scope.spawn(move || -> Result<(), RunError> {
             for (k, (block, counts)) in rx.into_iter().enumerate() {
-                checkpoint::commit(work, &c.dispersions, identity, &block, &counts, records)?;
+                checkpoint::commit(work, c, identity, &block, &counts, records)?;
                 failpoint(&format!("after-part-{k}")).map_err(|source| OutputError::Io {
                     path: work.to_path_buf(),
                     source,
@@ -456,7 +459,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         None => o.instances,
     };
     meta.push(("cryoslosh.instances".into(), total.to_string()));
-    let inst_path = checkpoint::assemble(&work, &dir, &c.dispersions, meta.clone())?;
+    let inst_path = checkpoint::assemble(&work, &dir, c, meta.clone())?;
     failpoint("after-instances").map_err(|source| OutputError::Io {
         path: dir.clone(),
         source,
@@ -528,6 +531,7 @@ fn finish_statistics(
         boiloff_budget_kg: c.dispersions.boiloff_budget_kg,
         total,
         seed,
+        phases: table::phase_names(c),
     };
     let rows = statistics::compute(&dir.join("instances.parquet"), &spec)?;
     statistics::write(&dir.join("statistics.parquet"), &rows, meta)?;

@@ -3,7 +3,7 @@
 //! row of `instances.parquet` to compare against.
 
 use super::plan::{InstanceRecord, Plan};
-use super::table::{self, COUNTS, FLAGS, QOI_F64};
+use super::table::{self, COUNTS, FLAGS};
 use super::RunError;
 use crate::campaign::Campaign;
 use crate::simulate::{simulate, History};
@@ -97,9 +97,12 @@ pub fn replay(
 /// the file has no row for the instance (another shard's).
 pub fn compare_row(
     dir: &Path,
-    d: &crate::campaign::dispersion::Dispersions,
+    c: &Campaign,
     record: &InstanceRecord,
 ) -> Result<Vec<(String, f64, f64)>, RunError> {
+    let d = &c.dispersions;
+    let phases = table::phase_names(c);
+    let qoi_names = table::qoi_names(&phases);
     let path = dir.join("instances.parquet");
     let ids = table::read_u64(&path, "instance")?;
     let row = ids
@@ -112,13 +115,13 @@ pub fn compare_row(
                 record.instance
             ))
         })?;
-    let (qois, counts, flags) = table::row_values(record);
+    let (qois, counts, flags) = table::row_values(record, phases.len());
     let replayed = d
         .inputs
         .iter()
         .map(|i| i.column.as_str())
         .zip(record.inputs.iter().copied())
-        .chain(QOI_F64.iter().map(|(n, _)| *n).zip(qois))
+        .chain(qoi_names.iter().map(String::as_str).zip(qois))
         .chain(COUNTS.iter().map(|(n, _)| *n).zip(counts.map(|c| c as f64)))
         .chain(
             FLAGS

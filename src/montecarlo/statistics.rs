@@ -7,7 +7,7 @@
 //! interval with the Bonett–Wright variance, Sobol indices a bootstrap over complete groups; and
 //! the campaign's one-sided (Wilks) tolerance bounds are reported beside them.
 
-use super::table::{read_bool, read_f64, ReadError, QOI_F64};
+use super::table::{qoi_names, read_bool, read_f64, ReadError};
 use crate::campaign::dispersion::Dispersions;
 use crate::campaign::statistics::{quantile_name, Side, StatisticsPlan, Threshold};
 use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
@@ -51,6 +51,8 @@ pub struct Spec {
     pub total: u64,
     /// Seed of the bootstrap resamples (the campaign's seed: statistics are reproducible).
     pub seed: u64,
+    /// The campaign's phase names (its per-phase QoI columns, `table::qoi_names`).
+    pub phases: Vec<String>,
 }
 
 /// QoIs whose sensitivities are reported (the margins a designer sizes a tank against).
@@ -247,7 +249,8 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
     let thresholds = thresholds(spec);
     // QoIs without sensitivities: constant ones and those with no value at all.
     let mut constant = Vec::new();
-    for (name, _) in QOI_F64 {
+    let names = qoi_names(&spec.phases);
+    for name in names.iter().map(String::as_str) {
         let values = keep(read_f64(path, name)?);
         let described = distribution_rows(name, &values, &spec.plan);
         if described.iter().any(|r| {

@@ -3,8 +3,9 @@
 
 use super::plan::InstanceRecord;
 use crate::campaign::dispersion::Dispersions;
+use crate::campaign::Campaign;
 use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
-use crate::simulate::Summary;
+use crate::simulate::{PhaseSummary, Summary};
 use arrow_array::{Array, BooleanArray, Float64Array, UInt64Array};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::arrow::ProjectionMask;
@@ -53,6 +54,40 @@ pub const QOI_F64: [Qoi; 21] = [
     }),
 ];
 
+/// A per-phase QoI: its name (the column is `<name>.<phase>`) and how to read it from a
+/// [`PhaseSummary`].
+pub type PhaseQoi = (&'static str, fn(&PhaseSummary) -> f64);
+
+/// f64 quantities of interest per phase, as columns `<qoi>.<phase>` after [`QOI_F64`], phase by
+/// phase in the campaign's order. A phase the instance never entered (it ran dry or diverged
+/// before) has nulls; `min_cavitation_margin_m` is null in a phase where the engine never drew.
+pub const PHASE_QOIS: [PhaseQoi; 7] = [
+    ("peak_pressure_pa", |q| q.peak_pressure_pa),
+    ("min_pressure_pa", |q| q.min_pressure_pa),
+    ("pressure_rise_pa", PhaseSummary::pressure_rise_pa),
+    ("boiloff_kg", |q| q.boiloff_kg),
+    ("vented_kg", |q| q.vented_kg),
+    ("min_cavitation_margin_m", |q| {
+        q.min_cavitation_margin_m.unwrap_or(f64::NAN)
+    }),
+    ("max_slosh_angle_rad", |q| q.max_slosh_angle_rad),
+];
+
+/// The phase names of a campaign, in order (the suffixes of its per-phase QoI columns).
+pub fn phase_names(c: &Campaign) -> Vec<String> {
+    c.phases.iter().map(|ph| ph.name.clone()).collect()
+}
+
+/// Every f64 QoI column of instances.parquet for phases named `phases`: [`QOI_F64`], then
+/// [`PHASE_QOIS`] as `<qoi>.<phase>` for each phase in order.
+pub fn qoi_names(phases: &[String]) -> Vec<String> {
+    let whole = QOI_F64.iter().map(|(n, _)| (*n).to_string());
+    let per_phase = phases
+        .iter()
+        .flat_map(|ph| PHASE_QOIS.iter().map(move |(n, _)| format!("{n}.{ph}")));
+    whole.chain(per_phase).collect()
+}
+
 /// A count column: its name and how to read it from a [`Summary`].
 pub type Count = (&'static str, fn(&Summary) -> u64);
 
@@ -74,13 +109,14 @@ pub const FLAGS: [&str; 7] = [
     "rejected",
 ];
 
-/// What a row of instances.parquet holds for `r` after its inputs: the [`QOI_F64`] values (NaN
-/// = null), the [`COUNTS`] and the [`FLAGS`]. A rejected or diverged instance has no QoIs, except
-/// the time it reached, and its outcome flags are null.
-pub fn row_values(r: &InstanceRecord) -> (Vec<f64>, [u64; 2], [Option<bool>; 7]) {
+/// What a row of instances.parquet holds for `r` after its inputs, in a campaign of `n_phases`
+/// phases: the QoI values of [`qoi_names`] (NaN = null), the [`COUNTS`] and the [`FLAGS`]. A
+/// rejected or diverged instance has no QoIs, except the time it reached, and its outcome flags
+/// are null.
+pub fn row_values(r: &InstanceRecord, n_phases: usize) -> (Vec<f64>, [u64; 2], [Option<bool>; 7]) {
     let q = &r.summary;
     let invalid = r.rejected || q.diverged;
-    let qois = QOI_F64
+    let mut qois: Vec<f64> = QOI_F64
         .iter()
         .map(|&(name, get)| {
             if invalid && name != "final_time_s" {
@@ -90,6 +126,14 @@ pub fn row_values(r: &InstanceRecord) -> (Vec<f64>, [u64; 2], [Option<bool>; 7])
             }
         })
         .collect();
+    for i in 0..n_phases {
+        let phase = q.phases.get(i).filter(|_| !invalid);
+        qois.extend(
+            PHASE_QOIS
+                .iter()
+                .map(|(_, get)| phase.map_or(f64::NAN, get)),
+        );
+    }
     let counts = [COUNTS[0].1(q), COUNTS[1].1(q)];
     let outcome = |v: bool| (!invalid).then_some(v);
     let flags = [
@@ -113,8 +157,9 @@ enum Buf {
     Bool(Vec<Option<bool>>),
 }
 
-/// The schema: `instance`, the dispersed inputs, the f64 QoIs, `steps`, the flags.
-pub fn schema(input_columns: &[String]) -> Vec<ColumnSpec> {
+/// The schema: `instance`, the dispersed inputs, the f64 QoIs of [`qoi_names`] for phases named
+/// `phases`, the counts, the flags.
+pub fn schema(input_columns: &[String], phases: &[String]) -> Vec<ColumnSpec> {
     let mut specs = vec![ColumnSpec::new("instance", ColumnKind::U64)];
     specs.extend(
         input_columns
@@ -122,9 +167,9 @@ pub fn schema(input_columns: &[String]) -> Vec<ColumnSpec> {
             .map(|c| ColumnSpec::new(c.clone(), ColumnKind::F64)),
     );
     specs.extend(
-        QOI_F64
-            .iter()
-            .map(|(n, _)| ColumnSpec::new(*n, ColumnKind::F64)),
+        qoi_names(phases)
+            .into_iter()
+            .map(|n| ColumnSpec::new(n, ColumnKind::F64)),
     );
     specs.extend(
         COUNTS
@@ -147,18 +192,20 @@ pub fn schema(input_columns: &[String]) -> Vec<ColumnSpec> {
 pub struct InstanceWriter {
     writer: TableWriter,
     bufs: Vec<Buf>,
+    n_phases: usize,
 }
 
 impl InstanceWriter {
-    /// Create the temporary file for `path` with one column per input of `d` and `metadata` as
-    /// file-level key-value metadata.
+    /// Create the temporary file for `path` with one column per input of `d`, the QoI columns
+    /// of phases named `phases`, and `metadata` as file-level key-value metadata.
     pub fn create(
         path: &Path,
         d: &Dispersions,
+        phases: &[String],
         metadata: Vec<(String, String)>,
     ) -> Result<Self, OutputError> {
         let input_columns: Vec<String> = d.inputs.iter().map(|i| i.column.clone()).collect();
-        let specs = schema(&input_columns);
+        let specs = schema(&input_columns, phases);
         let bufs = specs
             .iter()
             .map(|s| match s.kind {
@@ -170,6 +217,7 @@ impl InstanceWriter {
         Ok(InstanceWriter {
             writer: TableWriter::create(path, specs, metadata)?,
             bufs,
+            n_phases: phases.len(),
         })
     }
 
@@ -182,7 +230,7 @@ impl InstanceWriter {
 
     /// Append one instance.
     pub fn push(&mut self, r: &InstanceRecord) -> Result<(), OutputError> {
-        let (qois, counts, flags) = row_values(r);
+        let (qois, counts, flags) = row_values(r, self.n_phases);
         let mut f64s = r.inputs.iter().copied().chain(qois);
         let mut flag = flags.iter();
         let mut u64s = std::iter::once(r.instance).chain(counts);

@@ -5,7 +5,7 @@
 //! size or backend timing.
 
 use super::plan::InstanceRecord;
-use super::table::{row_values, QOI_F64};
+use super::table::row_values;
 use crate::campaign::statistics::{Side, Target, TargetEstimate};
 use crate::stats::{exceedance, quantile_interval, Direction};
 
@@ -30,8 +30,11 @@ pub struct Progress {
 pub struct Stopper {
     pub target: Target,
     confidence: f64,
-    /// Column of the target quantity in `QOI_F64`.
+    /// The target quantity's column among the QoIs of `table::qoi_names`, its name and the
+    /// campaign's phase count (the row layout).
     column: usize,
+    quantity: String,
+    n_phases: usize,
     /// Its values in instance order (NaN: rejected, diverged or missing).
     values: Vec<f64>,
     /// Instances between checks (a multiple of the Saltelli group size when there is one).
@@ -45,19 +48,28 @@ pub struct Stopper {
 impl Stopper {
     /// A stopper for a run starting at instance `start`; `group` is the Saltelli group size (1
     /// for other designs), to which the check interval is rounded up. `None` when the target
-    /// names no QoI column (the caller validated that already).
-    pub fn new(target: Target, confidence: f64, start: u64, group: u64) -> Option<Stopper> {
+    /// names none of the QoI columns `qois` (of `table::qoi_names` for `n_phases` phases; the
+    /// caller validated that already).
+    pub fn new(
+        target: Target,
+        confidence: f64,
+        (start, group): (u64, u64),
+        qois: &[String],
+        n_phases: usize,
+    ) -> Option<Stopper> {
         let quantity = match &target.estimate {
-            TargetEstimate::Probability(t) => t.quantity.as_str(),
-            TargetEstimate::Quantile { quantity, .. } => quantity.as_str(),
+            TargetEstimate::Probability(t) => t.quantity.clone(),
+            TargetEstimate::Quantile { quantity, .. } => quantity.clone(),
         };
-        let column = QOI_F64.iter().position(|(n, _)| *n == quantity)?;
+        let column = qois.iter().position(|n| *n == quantity)?;
         let group = group.max(1);
         let every = target.check_every.div_ceil(group) * group;
         Some(Stopper {
             target,
             confidence,
             column,
+            quantity,
+            n_phases,
             values: Vec::new(),
             every,
             next: start + every,
@@ -71,8 +83,8 @@ impl Stopper {
     }
 
     /// The QoI column the target is about.
-    pub fn quantity(&self) -> &'static str {
-        QOI_F64[self.column].0
+    pub fn quantity(&self) -> &str {
+        &self.quantity
     }
 
     /// Record values of the target quantity as written in instances.parquet (nulls as NaN),
@@ -84,7 +96,8 @@ impl Stopper {
     /// Record a block of records (in instance order).
     pub fn observe(&mut self, block: &[InstanceRecord]) {
         for r in block {
-            self.values.push(row_values(r).0[self.column]);
+            self.values
+                .push(row_values(r, self.n_phases).0[self.column]);
         }
     }
 

@@ -287,7 +287,7 @@ impl LaneRun<'_> {
             if self.phase + 1 == self.campaign.phases.len() {
                 self.done = true;
             } else {
-                self.phase += 1;
+                self.next_phase();
                 self.phase_start_s = mission;
                 self.t_phase = 0.0;
                 self.h = self.phase().dt_s.min(restart_step(&ev_end));

@@ -4,6 +4,13 @@
 
 pub mod adaptive;
 pub mod plan;
+pub mod qoi;
+
+use qoi::Tracker;
+pub use qoi::{
+    cumulative, describe_summary, finish_summary, PhaseSummary, Summary,
+    DEPLETION_RESIDUAL_FRACTION, PRESSURANT_EMPTY_FRACTION, SLOSH_ANGLE_MAX_RAD, SLOSH_BOND_MIN,
+};
 
 use crate::campaign::{Campaign, Integrator};
 use crate::lanes::{Lanes, Mask, Real};
@@ -12,90 +19,6 @@ use crate::model::flight::{Phase, G0};
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::{self, *};
 use crate::model::{self, Evaluation, Group};
-
-/// Quantities of interest of one instance (MODEL.md §11).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Summary {
-    pub peak_pressure_pa: f64,
-    pub peak_pressure_time_s: f64,
-    pub min_pressure_pa: f64,
-    pub min_pressure_time_s: f64,
-    /// Net mass evaporated at the interface, kg.
-    pub boiloff_kg: f64,
-    pub vented_kg: f64,
-    pub vented_vapor_kg: f64,
-    pub vented_helium_kg: f64,
-    pub pressurant_used_kg: f64,
-    pub propellant_drawn_kg: f64,
-    /// Smallest cavitation margin NPSH_a − NPSH_r while the engine drew, m (None: never drew).
-    pub min_cavitation_margin_m: Option<f64>,
-    pub min_cavitation_margin_pa: Option<f64>,
-    pub min_cavitation_margin_time_s: Option<f64>,
-    pub cavitation: bool,
-    pub overpressure: bool,
-    pub max_slosh_angle_rad: f64,
-    pub peak_slosh_force_n: f64,
-    pub peak_slosh_moment_n_m: f64,
-    /// T_s − T_b at the end, K.
-    pub final_stratification_k: f64,
-    pub final_pressure_pa: f64,
-    pub diverged: bool,
-    /// Relief-valve openings (closed → open switches).
-    pub relief_cycles: u64,
-    /// The pressurant bottle reached its last [`PRESSURANT_EMPTY_FRACTION`], and when, s.
-    pub pressurant_exhausted: bool,
-    pub pressurant_exhausted_time_s: Option<f64>,
-    /// The tank ran dry, drawn by the engine or boiled off: the liquid fell to
-    /// [`DEPLETION_RESIDUAL_FRACTION`] of its initial mass. An outcome, not a divergence: the
-    /// instance ends there.
-    pub depleted: bool,
-    pub depleted_time_s: Option<f64>,
-    /// The slosh analog left its range at some step end (Bond number below [`SLOSH_BOND_MIN`]
-    /// or pendulum angle beyond [`SLOSH_ANGLE_MAX_RAD`]), and the share of the mission it spent
-    /// there. Always false at the homogeneous level (no analog).
-    pub slosh_out_of_range: bool,
-    pub slosh_out_of_range_fraction: f64,
-    /// What left which range, and when (None unless diverged).
-    pub diverged_reason: Option<String>,
-    pub final_time_s: f64,
-    /// Accepted steps.
-    pub steps: u64,
-    /// Steps the error control rejected and retried shorter (0 under fixed-step RK4).
-    pub rejected_steps: u64,
-    /// Right-hand-side evaluations this instance cost (stages, probes, event location).
-    pub rhs_evaluations: u64,
-    /// |Δ mass invariant| / initial mass.
-    pub mass_error_rel: f64,
-    /// |Δ energy invariant| / energy scale (see [`energy_scale`]).
-    pub energy_error_rel: f64,
-}
-
-impl Summary {
-    /// Why the instance diverged, or `None` when it did not (the `cryoslosh.diverged` of its
-    /// history).
-    pub fn divergence(&self) -> Option<&str> {
-        self.diverged
-            .then(|| self.diverged_reason.as_deref().unwrap_or(""))
-    }
-}
-
-/// Bond number ρ_l |a| R² / σ below which surface tension, not the body force, shapes the free
-/// surface and the SP-106 analog no longer holds (low-gravity regime, Abramson NASA SP-106
-/// ch. 11 and Dodge 2000: capillary effects dominate as Bo falls towards 1–10).
-pub const SLOSH_BOND_MIN: f64 = 10.0;
-/// Pendulum angle beyond which the linear SP-106 parameters no longer describe the motion (the
-/// analog's masses and lengths come from linear potential flow), rad.
-pub const SLOSH_ANGLE_MAX_RAD: f64 = 0.5;
-
-/// Relative difference below which two pressure peaks are the same peak (CPU, f64).
-const PEAK_TIE_REL: f64 = 1.0e-9;
-
-/// Share of the initial liquid mass left when the tank counts as dry: the engine stops drawing
-/// (unusable residual; the lumped nodes are no longer meaningful below it).
-pub const DEPLETION_RESIDUAL_FRACTION: f64 = 1.0e-3;
-/// Share of the bottle left when the pressurant counts as exhausted: the flow fades to zero over
-/// it (`model::boundary::boundary_flows`).
-pub const PRESSURANT_EMPTY_FRACTION: f64 = 1.0e-3;
 
 /// The fraction of a step, from values `a` at its start and `b` at its end, where a linear
 /// interpolation crosses `level` (the values are nearly linear over a step: a constant draw).
@@ -260,92 +183,6 @@ fn check_state(p: &Params, s: &State, x: &Derived) -> Option<String> {
     None
 }
 
-/// Running extremes of one instance (MODEL.md §11), updated after every step.
-struct Tracker {
-    summary: Summary,
-}
-
-impl Tracker {
-    fn new() -> Tracker {
-        Tracker {
-            summary: Summary {
-                peak_pressure_pa: f64::NEG_INFINITY,
-                min_pressure_pa: f64::INFINITY,
-                ..Default::default()
-            },
-        }
-    }
-
-    fn observe(&mut self, p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) {
-        let x = &ev.derived;
-        let q = &mut self.summary;
-        let pu = x.p_ullage_pa;
-        if pu > q.peak_pressure_pa {
-            // A relief valve caps the pressure at its crack every cycle: a later peak within
-            // rounding of the first is the same peak, and its time is when it was first reached.
-            if pu > q.peak_pressure_pa + PEAK_TIE_REL * q.peak_pressure_pa.abs() {
-                q.peak_pressure_time_s = t;
-            }
-            q.peak_pressure_pa = pu;
-        }
-        if pu < q.min_pressure_pa {
-            q.min_pressure_pa = pu;
-            q.min_pressure_time_s = t;
-        }
-        if d.burning {
-            let (m, m_pa) = cavitation_margin(p, s, x);
-            if q.min_cavitation_margin_m.is_none_or(|old| m < old) {
-                q.min_cavitation_margin_m = Some(m);
-                q.min_cavitation_margin_pa = Some(m_pa);
-                q.min_cavitation_margin_time_s = Some(t);
-            }
-        }
-        let angle = slosh_angle(Group::one(p), s, &x.slosh).abs();
-        q.max_slosh_angle_rad = q.max_slosh_angle_rad.max(angle);
-        let force = ev.fluxes.slosh_force_n.abs();
-        q.peak_slosh_force_n = q.peak_slosh_force_n.max(force);
-        q.peak_slosh_moment_n_m = q
-            .peak_slosh_moment_n_m
-            .max(force * p.vehicle.slosh_lever_arm_m.abs());
-    }
-}
-
-/// Complete the running extremes in `q` with the end-of-run quantities: final state `s` at time
-/// `t` after `steps` steps from `s0` (initial vapour mass `m_vapor0`), its derived quantities `x`
-/// (temperatures, vapour mass, pressure). Shared by every backend so that flags and closures are
-/// computed one way.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "the end-of-run facts, each named"
-)]
-pub fn finish_summary(
-    mut q: Summary,
-    p: &Params,
-    s0: &State,
-    m_vapor0: f64,
-    t: f64,
-    s: &State,
-    x: &Derived,
-    steps: u64,
-) -> Summary {
-    q.final_time_s = t;
-    q.steps = steps;
-    q.vented_vapor_kg = s[VENT_V];
-    q.vented_helium_kg = s[VENT_G];
-    q.vented_kg = s[VENT_V] + s[VENT_G];
-    q.pressurant_used_kg = s[PRESS_IN];
-    q.propellant_drawn_kg = s[OUT];
-    q.boiloff_kg = x.m_vapor_kg - m_vapor0 + s[VENT_V];
-    q.final_stratification_k = x.t_layer_k - x.t_bulk_k;
-    q.final_pressure_pa = x.p_ullage_pa;
-    q.cavitation = q.min_cavitation_margin_m.is_some_and(|m| m < 0.0);
-    q.overpressure = q.peak_pressure_pa > p.meop_pa;
-    let m0 = mass_invariant(s0);
-    q.mass_error_rel = (mass_invariant(s) - m0).abs() / m0.abs();
-    q.energy_error_rel = (energy_invariant(s) - energy_invariant(s0)).abs() / energy_scale(s0, s);
-    q
-}
-
 /// Vapour mass of the initial state (homogeneous keeps it implicit in the equilibrium).
 pub fn initial_vapor_mass(p: &Params, s0: &State) -> f64 {
     match p.fidelity {
@@ -479,7 +316,8 @@ impl<'a> LaneRun<'a> {
         let s0 = initial_state(c, p);
         let d0 = Drive::of_phase(&c.phases[0], 0.0, false);
         let ev0 = model::evaluate(Group::one(p), &s0, &d0, c.phases[0].dt_s);
-        let mut tracker = Tracker::new();
+        let mut tracker = Tracker::new(initial_vapor_mass(p, &s0));
+        tracker.enter_phase(&c.phases[0].name, p, &s0, &ev0);
         tracker.observe(p, 0.0, &s0, &ev0, &d0);
         let (n, dt) = c.phases[0].steps();
         LaneRun {
@@ -642,16 +480,28 @@ impl<'a> LaneRun<'a> {
             if self.phase + 1 == self.campaign.phases.len() {
                 self.done = true;
             } else {
-                self.phase += 1;
+                self.next_phase();
                 (self.k, (self.n, self.dt)) = (0, self.phase().steps());
             }
         }
         true
     }
 
-    fn finish(self) -> Summary {
+    /// Move to the next phase from the last good state: the phase that ends is closed there and
+    /// the next one starts there.
+    fn next_phase(&mut self) {
+        let (s, x) = (&self.last_state, &self.last.derived);
+        self.tracker.close_phase(s, x.m_vapor_kg);
+        self.phase += 1;
+        let name = &self.campaign.phases[self.phase].name;
+        self.tracker.enter_phase(name, self.params, s, &self.last);
+    }
+
+    fn finish(mut self) -> Summary {
         let p = self.params;
         let m_vapor0 = initial_vapor_mass(p, &self.s0);
+        let end = self.diverged_state.unwrap_or(self.last_state);
+        self.tracker.close_phase(&end, self.last.derived.m_vapor_kg);
         let mut q = self.tracker.summary;
         q.rejected_steps = self.rejected;
         q.rhs_evaluations = self.evaluations;
@@ -666,7 +516,7 @@ impl<'a> LaneRun<'a> {
             &self.s0,
             m_vapor0,
             self.t,
-            self.diverged_state.as_ref().unwrap_or(&self.last_state),
+            &end,
             &self.last.derived,
             self.steps,
         )
@@ -758,58 +608,4 @@ pub fn simulate(c: &Campaign, p: &Params, history: Option<&mut History>) -> Summ
 /// [`Params::lane_compatible`].
 pub fn simulate_lanes(members: &[(&Campaign, &Params)]) -> Vec<Summary> {
     integrate::<Lanes>(members, None)
-}
-
-/// A short summary a designer reads at a glance.
-pub fn describe_summary(q: &Summary) -> String {
-    let margin = q.min_cavitation_margin_m.map_or_else(
-        || "n/a (engine never drew)".to_string(),
-        |m| {
-            format!(
-                "{m:.3} m at t = {:.1} s",
-                q.min_cavitation_margin_time_s.unwrap_or(0.0)
-            )
-        },
-    );
-    format!(
-        "peak pressure {:.1} Pa at t = {:.1} s (min {:.1} Pa){}\nboil-off {:.4} kg, vented {:.4} kg, pressurant used {:.4} kg, drawn {:.2} kg\nmin cavitation margin {}{}\nmax slosh angle {:.4} rad, peak slosh force {:.2} N\nfinal stratification {:.4} K, final pressure {:.1} Pa\nclosure: mass {:.2e}, energy {:.2e}{}",
-        q.peak_pressure_pa,
-        q.peak_pressure_time_s,
-        q.min_pressure_pa,
-        if q.overpressure { " — OVERPRESSURE (above MEOP)" } else { "" },
-        q.boiloff_kg,
-        q.vented_kg,
-        q.pressurant_used_kg,
-        q.propellant_drawn_kg,
-        margin,
-        if q.cavitation { " — CAVITATION" } else { "" },
-        q.max_slosh_angle_rad,
-        q.peak_slosh_force_n,
-        q.final_stratification_k,
-        q.final_pressure_pa,
-        q.mass_error_rel,
-        q.energy_error_rel,
-        if q.diverged { " — DIVERGED" } else { "" },
-    ) + &outcomes_text(q)
-}
-
-/// The outcome lines of a summary: relief cycles, pressurant exhaustion, depletion.
-fn outcomes_text(q: &Summary) -> String {
-    let mut o = String::new();
-    if q.relief_cycles > 0 {
-        o += &format!("\nrelief valve opened {} times", q.relief_cycles);
-    }
-    if q.slosh_out_of_range {
-        o += &format!(
-            "\nslosh analog out of range for {:.1} % of the mission (Bond number below {SLOSH_BOND_MIN} or angle beyond {SLOSH_ANGLE_MAX_RAD} rad)",
-            100.0 * q.slosh_out_of_range_fraction
-        );
-    }
-    if let Some(t) = q.pressurant_exhausted_time_s {
-        o += &format!("\npressurant exhausted at t = {t:.1} s");
-    }
-    if let Some(t) = q.depleted_time_s {
-        o += &format!("\nDEPLETED: the tank ran dry at t = {t:.3} s (the instance ends there)");
-    }
-    o
 }
