@@ -127,6 +127,11 @@ enum Command {
         /// blocks; the result equals the uninterrupted run byte for byte.
         #[arg(long)]
         resume: bool,
+        /// Also write DIR/events.parquet: every instance's located events (relief valve
+        /// openings and closings, pressurant exhausted, bulk merged, tank dry, cavitation onset
+        /// and end, phase ends) with time, phase and ullage pressure. CPU backend.
+        #[arg(long)]
+        events: bool,
     },
     /// Write a commented template campaign to start from (refuses to overwrite without --force).
     Init {
@@ -284,6 +289,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             };
             let mut h = History::default();
             let start = std::time::Instant::now();
+            let mut c = c;
+            c.record_events = true;
             let q = simulate::simulate(&c, &c.params, Some(&mut h));
             let wall = start.elapsed().as_secs_f64();
             let rows = cryoslosh::history::write_history(&out, &c, &h, &label, q.divergence())
@@ -319,8 +326,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             histories,
             until,
             resume,
+            events,
         } => {
-            let c = Campaign::load(&campaign, &set)?;
+            let mut c = Campaign::load(&campaign, &set)?;
+            c.record_events = events;
             let histories = match histories {
                 None => Vec::new(),
                 Some(spec) => montecarlo::histories::parse(&spec).map_err(BadInput)?,
@@ -362,8 +371,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let report = montecarlo::run(&c, &backend, &opts)?;
             out!("{}", montecarlo::summary_text(&report));
             outln!(
-                "wrote {}/{{instances,statistics}}.parquet and run.json{}",
+                "wrote {}/{{instances,statistics{}}}.parquet and run.json{}",
                 opts.out_dir.display(),
+                if c.record_events { ",events" } else { "" },
                 if opts.histories.is_empty() {
                     String::new()
                 } else {

@@ -134,6 +134,9 @@ pub struct Campaign {
     /// The resolved document without `[dispersions]`: each instance applies its sampled values
     /// to it and goes through the same validation as the nominal.
     pub document: toml::Table,
+    /// Record each instance's located events (`simulate::events`): set by `run --events` and
+    /// `simulate`, not a campaign key (it changes what is written, not the results).
+    pub record_events: bool,
 }
 
 impl Campaign {
@@ -267,6 +270,7 @@ impl Campaign {
         let mut c = validate::validate(&raw, &self.path, String::new())?;
         c.dispersions = dispersion::Dispersions::default();
         c.statistics = self.statistics.clone();
+        c.record_events = self.record_events;
         Ok(c)
     }
 }

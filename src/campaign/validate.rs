@@ -544,6 +544,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         dispersions: super::dispersion::Dispersions::default(),
         statistics: super::statistics::StatisticsPlan::default(),
         document: toml::Table::new(),
+        record_events: false,
     })
 }
 

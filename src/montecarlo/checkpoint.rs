@@ -6,6 +6,7 @@
 //! the parts are joined into `instances.parquet` exactly as `merge` joins shards, so the result
 //! is byte-identical to an uninterrupted run.
 
+use super::events::EventWriter;
 use super::plan::InstanceRecord;
 use super::table::{self, InstanceWriter};
 use super::RunError;
@@ -46,6 +47,21 @@ fn parts_dir(dir: &Path) -> PathBuf {
     dir.join("parts")
 }
 
+/// Where a run with `--events` keeps each block's events (`events-<first instance>.parquet`).
+fn events_dir(dir: &Path) -> PathBuf {
+    dir.join("events")
+}
+
+/// The file and its size and SHA-256, as a part record holds them.
+fn digest(path: &Path) -> Result<(u64, String), RunError> {
+    crate::output::results_dir::digest(path).map_err(|source| {
+        RunError::Output(crate::output::OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
 /// Write a block as its part file, then the progress after it (the part first: progress never
 /// names a part that is not whole).
 pub fn commit(
@@ -67,6 +83,24 @@ pub fn commit(
     let name = format!("part-{:012}.parquet", first.instance);
     let path = parts.join(&name);
     let phases = table::phase_names(c);
+    // The block's events first: a part record names only whole files.
+    let events = if c.record_events {
+        let dir = events_dir(dir);
+        std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
+            path: dir.clone(),
+            source,
+        })?;
+        let file = format!("events-{:012}.parquet", first.instance);
+        let mut w = EventWriter::create(&dir.join(&file), &phases, Vec::new())?;
+        for r in block {
+            w.push(r)?;
+        }
+        w.finish()?;
+        let (bytes, sha) = digest(&dir.join(&file))?;
+        serde_json::json!({"file": file, "bytes": bytes, "sha256": sha})
+    } else {
+        serde_json::Value::Null
+    };
     let mut w = InstanceWriter::create(&path, &c.dispersions, &phases, Vec::new())?;
     for r in block {
         w.push(r)?;
@@ -84,6 +118,7 @@ pub fn commit(
         "rows": block.len(),
         "bytes": bytes,
         "sha256": sha,
+        "events": events,
     }));
     let json = serde_json::json!({
         "parts": parts_so_far,
@@ -135,6 +170,7 @@ pub fn load(
     };
     let records: Vec<serde_json::Value> = p["parts"].as_array().cloned().unwrap_or_default();
     let mut files = Vec::new();
+    let mut event_files = Vec::new();
     let mut next = first_instance;
     for r in &records {
         let name = r["file"].as_str().unwrap_or_default();
@@ -157,6 +193,17 @@ pub fn load(
                 next + rows.saturating_sub(1)
             )));
         }
+        if let Some(ev) = r["events"].as_object() {
+            let file = ev["file"].as_str().unwrap_or_default();
+            let (bytes, sha) = digest(&events_dir(dir).join(file))
+                .map_err(|e| bad(format!("events part {file}: {e}: run without --resume")))?;
+            if ev["bytes"].as_u64() != Some(bytes) || ev["sha256"].as_str() != Some(sha.as_str()) {
+                return Err(bad(format!(
+                    "events part {file} changed after it was committed: run without --resume"
+                )));
+            }
+            event_files.push(events_dir(dir).join(file));
+        }
         next += rows;
         files.push(path);
     }
@@ -168,8 +215,8 @@ pub fn load(
         )));
     }
     // Parts written after the last progress (a kill between the two) are not part of the run.
-    for f in parts(dir) {
-        if !files.contains(&f) {
+    for f in parts(dir).into_iter().chain(listing(&events_dir(dir))) {
+        if !files.contains(&f) && !event_files.contains(&f) {
             let _ = std::fs::remove_file(f);
         }
     }
@@ -178,11 +225,16 @@ pub fn load(
 
 /// The part files of `dir` in instance order.
 pub fn parts(dir: &Path) -> Vec<PathBuf> {
-    let mut parts: Vec<PathBuf> = std::fs::read_dir(parts_dir(dir))
+    listing(&parts_dir(dir))
+}
+
+/// The files in `dir`, sorted by name (empty when it does not exist).
+fn listing(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map(|it| it.filter_map(Result::ok).map(|e| e.path()).collect())
         .unwrap_or_default();
-    parts.sort();
-    parts
+    files.sort();
+    files
 }
 
 /// Join the parts of the working directory `work` into `out/instances.parquet` with `meta`.
@@ -195,10 +247,17 @@ pub fn assemble(
 ) -> Result<PathBuf, RunError> {
     let path = out.join("instances.parquet");
     let phases = table::phase_names(c);
-    let mut w = InstanceWriter::create(&path, &c.dispersions, &phases, meta)?;
+    let mut w = InstanceWriter::create(&path, &c.dispersions, &phases, meta.clone())?;
     for part in parts(work) {
         table::copy_rows(&mut w, &part)?;
     }
     w.finish()?;
+    if c.record_events {
+        let mut events = EventWriter::create(&out.join("events.parquet"), &phases, meta)?;
+        for part in listing(&events_dir(work)) {
+            events.copy_rows(&part)?;
+        }
+        events.finish()?;
+    }
     Ok(path)
 }

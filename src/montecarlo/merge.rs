@@ -155,6 +155,35 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         rows += table::copy_rows(&mut writer, &file)?;
     }
     writer.finish()?;
+    // Events (`run --events`): every shard has them or none does.
+    let with_events: Vec<bool> = shards
+        .iter()
+        .map(|s| s.dir.join("events.parquet").is_file())
+        .collect();
+    if with_events.iter().any(|&e| e != with_events[0]) {
+        let odd: Vec<String> = shards
+            .iter()
+            .zip(&with_events)
+            .filter(|(_, &e)| e != with_events[0])
+            .map(|(s, _)| format!("shard {} ({})", s.shard, s.dir.display()))
+            .collect();
+        return Err(RunError::Input(format!(
+            "{} {} events.parquet and shard {} ({}) {}: run every shard with --events, or none",
+            odd.join(", "),
+            if with_events[0] { "lack" } else { "have" },
+            first.shard,
+            first.dir.display(),
+            if with_events[0] { "has it" } else { "does not" },
+        )));
+    }
+    if with_events[0] {
+        let path = dir.join("events.parquet");
+        let mut events = super::events::EventWriter::create(&path, &phases, meta.clone())?;
+        for s in &shards {
+            events.copy_rows(&s.dir.join("events.parquet"))?;
+        }
+        events.finish()?;
+    }
     // The shards' histories come along (their file names are instance numbers: no clashes).
     for s in &shards {
         let from = s.dir.join("histories");

@@ -3,6 +3,7 @@
 //! exactly what the unsharded run writes.
 
 pub mod checkpoint;
+pub mod events;
 pub mod histories;
 mod merge;
 pub mod plan;
@@ -328,6 +329,12 @@ fn set_meta(meta: &mut [(String, String)], key: &str, value: String) {
 pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport, RunError> {
     check_options(c, o)?;
     let engine = backend.engine();
+    if c.record_events && engine.name() != "cpu" {
+        return Err(RunError::Input(
+            "--events: events are located on the CPU engine's dense output; run with --backend cpu"
+                .into(),
+        ));
+    }
     let mut staging = Staging::begin(&o.out_dir, o.force, o.resume)?;
     staging.keep_on_failure();
     let dir = staging.path().to_path_buf();
@@ -355,6 +362,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         "shard": o.shard.to_string(),
         "backend": engine.name(),
         "target": o.target(c).map(|t| format!("{t:?}")),
+        "events": c.record_events,
     });
     let mut counts = checkpoint::Counts::default();
     let mut part_records = Vec::new();

@@ -62,7 +62,9 @@ pub fn replay(
     i: u64,
     history: Option<&mut History>,
 ) -> Result<(RunCampaign, InstanceRecord), RunError> {
-    let run = run_campaign(dir)?;
+    let mut run = run_campaign(dir)?;
+    // A replay is for inspection: it locates the instance's events (no QoI depends on it).
+    run.campaign.record_events = true;
     if i >= run.total {
         return Err(RunError::Input(format!(
             "--instance {i}: the run in {} has {} instances",

@@ -9,6 +9,7 @@
 //! and the step is cut there; extremes between step ends are found by a probe at mid-step and
 //! a parabolic refinement, so peaks do not depend on where the steps fall.
 
+use super::events::EventKind;
 use super::{row, History, LaneRun};
 use crate::lanes::{Mask, Real};
 use crate::model::derive::{self, Drive};
@@ -178,7 +179,7 @@ impl LaneRun<'_> {
                         g0
                     };
                     cut = Some(
-                        self.locate(&dense, (t0, h), (lo, g_lo), (theta_hi, g), |x| {
+                        self.locate(&dense, (t0, h), (lo, g_lo), (theta_hi, g), |_, x| {
                             switch(x, open)
                         }),
                     );
@@ -195,7 +196,6 @@ impl LaneRun<'_> {
             }
             None => (1.0, *y1, *ev1, self.drive(t0 + h)),
         };
-        self.merge_bulk(&mut s_end, &mut ev_end, &d_end, h);
         let t_end = if cut.is_none() {
             match self.landing {
                 Landing::PhaseEnd => self.phase().duration_s,
@@ -205,15 +205,22 @@ impl LaneRun<'_> {
         } else {
             t0 + theta_end * h
         };
-        self.steps += 1;
         let mission = self.phase_start_s + t_end;
+        self.merge_bulk(&mut s_end, &mut ev_end, (&d_end, mission), h);
+        self.steps += 1;
         self.t = mission;
         if self.outcomes(self.phase_start_s + t0, mission, &s_end, &ev_end) {
             self.t_phase = t_end;
             return;
         }
-        if cut.is_some() && !open {
-            self.tracker.summary.relief_cycles += 1;
+        if cut.is_some() {
+            self.tracker.summary.relief_cycles += u64::from(!open);
+            let kind = if open {
+                EventKind::ReliefClose
+            } else {
+                EventKind::ReliefOpen
+            };
+            self.record(mission, kind, ev_end.derived.p_ullage_pa, f64::NAN);
         }
         if let Some(reason) = super::check_state(p, &s_end, &ev_end.derived) {
             self.diverge(&reason, mission, Some(s_end));
@@ -239,6 +246,26 @@ impl LaneRun<'_> {
         );
         self.tracker.observe(p, mission, &s_end, &ev_end, &d_end);
         self.slosh_validity(t_end - t0, &s_end, &ev_end, &d_end);
+        // Cavitation onset or end inside the step, located on the dense output.
+        let margin = d_end
+            .burning
+            .then(|| super::cavitation_margin(p, &s_end, &ev_end.derived).0);
+        let start = self.phase_start_s;
+        let before = self.margin_prev;
+        self.cavitation_events(
+            start + t0,
+            margin,
+            ev_end.derived.p_ullage_pa,
+            |lane, onset| {
+                let sign = if onset { -1.0 } else { 1.0 };
+                let g = |s: &State, x: &crate::model::derive::Derived| {
+                    sign * super::cavitation_margin(p, s, x).0
+                };
+                let lo = (0.0, sign * before.unwrap_or(0.0));
+                let hi = (theta_end, sign * margin.unwrap_or(0.0));
+                start + t0 + lane.locate(&dense, (t0, h), lo, hi, g) * h
+            },
+        );
 
         if let Some(hist) = history {
             let interval = self.campaign.output_interval_s;
@@ -357,7 +384,7 @@ impl LaneRun<'_> {
         (t0, h): (f64, f64),
         mut lo: (f64, f64),
         mut hi: (f64, f64),
-        g: impl Fn(&crate::model::derive::Derived) -> f64,
+        g: impl Fn(&State, &crate::model::derive::Derived) -> f64,
     ) -> f64 {
         let p = self.params;
         let mut side = 0i8;
@@ -373,7 +400,7 @@ impl LaneRun<'_> {
             let s = dense.at(th);
             let d = self.drive(t0 + th * h);
             self.evaluations += 1;
-            let v = g(&derive::derive(Group::one(p), &s, &d));
+            let v = g(&s, &derive::derive(Group::one(p), &s, &d));
             if v >= 0.0 {
                 hi = (th, v);
                 if side == 1 {

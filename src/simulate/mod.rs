@@ -3,8 +3,11 @@
 //! lives in [`adaptive`]; fixed-step RK4 (`campaign.integrator = "rk4"`) in this file.
 
 pub mod adaptive;
+pub mod events;
 pub mod plan;
 pub mod qoi;
+
+use events::{EventKind, EventLog};
 
 use qoi::Tracker;
 pub use qoi::{
@@ -308,6 +311,10 @@ struct LaneRun<'a> {
     merged: bool,
     /// Time the slosh analog spent outside its range, s.
     slosh_out_s: f64,
+    /// The events so far, when the campaign records them.
+    events: Option<EventLog>,
+    /// Cavitation margin at the last observation, m (None: the engine did not draw).
+    margin_prev: Option<f64>,
 }
 
 impl<'a> LaneRun<'a> {
@@ -349,6 +356,10 @@ impl<'a> LaneRun<'a> {
             m_liquid0: ev0.derived.m_liquid_kg,
             merged: false,
             slosh_out_s: 0.0,
+            events: c.record_events.then(EventLog::default),
+            margin_prev: d0
+                .burning
+                .then(|| cavitation_margin(p, &s0, &ev0.derived).0),
         }
     }
 
@@ -372,16 +383,68 @@ impl<'a> LaneRun<'a> {
         self.done = true;
     }
 
-    /// Merge an empty bulk node of the step's end state `s` into the layer
+    /// Record event `kind` at mission time `t` with ullage pressure `pressure_pa` and the kind's
+    /// `value` (see [`events::Event`]), when the campaign records events.
+    fn record(&mut self, t: f64, kind: EventKind, pressure_pa: f64, value: f64) {
+        if let Some(log) = &mut self.events {
+            log.push(t, self.phase, kind, pressure_pa, value);
+        }
+    }
+
+    /// Merge an empty bulk node of the step's end state `s` at mission time `t` into the layer
     /// ([`model::merge_empty_bulk`]) and evaluate the merged state again under drive `d` with
     /// step `h`. Returns whether it merged.
-    fn merge_bulk(&mut self, s: &mut State, ev: &mut Evaluation, d: &Drive, h: f64) -> bool {
+    fn merge_bulk(
+        &mut self,
+        s: &mut State,
+        ev: &mut Evaluation,
+        (d, t): (&Drive, f64),
+        h: f64,
+    ) -> bool {
         let merged = model::merge_empty_bulk(self.params, s);
         if merged {
             self.evaluations += 1;
             *ev = model::evaluate(Group::one(self.params), s, d, h);
+            self.record(t, EventKind::BulkMerged, ev.derived.p_ullage_pa, s[M_S]);
         }
         merged
+    }
+
+    /// Cavitation onset or end between the last observation (mission time `t0`) and this one,
+    /// where the margin is `margin` (None: the engine does not draw) and the ullage
+    /// pressure `pressure_pa`. `locate(onset)` gives the time the margin crossed zero inside
+    /// the step. A draw that starts cavitating (at a phase start) begins it at `t0`; one that
+    /// stops while cavitating ends it at `t0`.
+    fn cavitation_events(
+        &mut self,
+        t0: f64,
+        margin: Option<f64>,
+        pressure_pa: f64,
+        locate: impl FnOnce(&mut Self, bool) -> f64,
+    ) {
+        let before = self.margin_prev;
+        self.margin_prev = margin;
+        if self.events.is_none() {
+            return;
+        }
+        match (before, margin) {
+            (Some(a), Some(b)) if a >= 0.0 && b < 0.0 => {
+                let t = locate(self, true);
+                self.record(t, EventKind::CavitationOnset, pressure_pa, f64::NAN);
+            }
+            (Some(a), Some(b)) if a < 0.0 && b >= 0.0 => {
+                let t = locate(self, false);
+                self.record(t, EventKind::CavitationEnd, pressure_pa, f64::NAN);
+            }
+            (None, Some(b)) if b < 0.0 => {
+                // The draw began at the step's start (a phase start) already cavitating.
+                self.record(t0, EventKind::CavitationOnset, pressure_pa, f64::NAN);
+            }
+            (Some(a), None) if a < 0.0 => {
+                self.record(t0, EventKind::CavitationEnd, pressure_pa, f64::NAN);
+            }
+            _ => {}
+        }
     }
 
     /// Whether the slosh analog is inside its range at the end of a step of `dt_s` seconds
@@ -414,18 +477,24 @@ impl<'a> LaneRun<'a> {
             let empty = pr.bottle_mass_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
             if s[PRESS_IN] >= empty {
                 let th = crossing(self.last_state[PRESS_IN], s[PRESS_IN], empty);
+                let t = t0 + th * (t1 - t0);
                 q.pressurant_exhausted = true;
-                q.pressurant_exhausted_time_s = Some(t0 + th * (t1 - t0));
+                q.pressurant_exhausted_time_s = Some(t);
+                let pressure = ev.derived.p_ullage_pa;
+                self.record(t, EventKind::PressurantExhausted, pressure, empty);
             }
         }
+        let q = &mut self.tracker.summary;
         let residual = self.m_liquid0 * DEPLETION_RESIDUAL_FRACTION;
         let m_liquid = ev.derived.m_liquid_kg;
         if m_liquid.is_nan() || m_liquid > residual {
             return false;
         }
         let th = crossing(self.last.derived.m_liquid_kg, m_liquid, residual);
+        let t = t0 + th * (t1 - t0);
         q.depleted = true;
-        q.depleted_time_s = Some(t0 + th * (t1 - t0));
+        q.depleted_time_s = Some(t);
+        self.record(t, EventKind::Depleted, ev.derived.p_ullage_pa, residual);
         if check_state(p, s, &ev.derived).is_none() {
             self.last_state = *s;
             self.last = *ev;
@@ -445,11 +514,13 @@ impl<'a> LaneRun<'a> {
     ) -> bool {
         let p = self.params;
         let (mut merged_state, mut merged_ev) = (*s, *ev);
-        self.merged = self.merge_bulk(&mut merged_state, &mut merged_ev, d, self.dt);
+        // From the phase start, not summed step by step: a phase of n steps ends at its
+        // duration exactly (3000 sums of 0.02 s give 60.00000000000031).
+        let t = self.phase_start_s + (self.k + 1) as f64 * self.dt;
+        self.merged = self.merge_bulk(&mut merged_state, &mut merged_ev, (d, t), self.dt);
         let (s, ev) = (&merged_state, &merged_ev);
         self.steps += 1;
-        self.t += self.dt;
-        let t = self.t;
+        self.t = t;
         if self.outcomes(t - self.dt, t, s, ev) {
             return true;
         }
@@ -459,9 +530,23 @@ impl<'a> LaneRun<'a> {
         }
         self.tracker.observe(p, t, s, ev, d);
         self.slosh_validity(self.dt, s, ev, d);
+        let pressure = ev.derived.p_ullage_pa;
+        let margin = d.burning.then(|| cavitation_margin(p, s, &ev.derived).0);
+        let t0 = t - self.dt;
+        self.cavitation_events(t0, margin, pressure, |l, _| {
+            t0 + crossing(l.margin_prev.unwrap_or(0.0), margin.unwrap_or(0.0), 0.0) * (t - t0)
+        });
         let before = self.valve;
-        self.valve = model::update_valve(Group::one(p), ev.derived.p_ullage_pa, self.valve);
+        self.valve = model::update_valve(Group::one(p), pressure, self.valve);
         self.tracker.summary.relief_cycles += u64::from(self.valve && !before);
+        if self.valve != before {
+            let kind = if self.valve {
+                EventKind::ReliefOpen
+            } else {
+                EventKind::ReliefClose
+            };
+            self.record(t, kind, pressure, f64::NAN);
+        }
         let phase_end = self.k + 1 == self.n;
         self.reuse = self.valve == before && !phase_end && !self.merged;
         if let Some(h) = history {
@@ -481,6 +566,7 @@ impl<'a> LaneRun<'a> {
                 self.done = true;
             } else {
                 self.next_phase();
+                self.phase_start_s = t;
                 (self.k, (self.n, self.dt)) = (0, self.phase().steps());
             }
         }
@@ -490,6 +576,8 @@ impl<'a> LaneRun<'a> {
     /// Move to the next phase from the last good state: the phase that ends is closed there and
     /// the next one starts there.
     fn next_phase(&mut self) {
+        let pressure = self.last.derived.p_ullage_pa;
+        self.record(self.t, EventKind::PhaseEnd, pressure, f64::NAN);
         let (s, x) = (&self.last_state, &self.last.derived);
         self.tracker.close_phase(s, x.m_vapor_kg);
         self.phase += 1;
@@ -502,7 +590,10 @@ impl<'a> LaneRun<'a> {
         let m_vapor0 = initial_vapor_mass(p, &self.s0);
         let end = self.diverged_state.unwrap_or(self.last_state);
         self.tracker.close_phase(&end, self.last.derived.m_vapor_kg);
+        let pressure = self.last.derived.p_ullage_pa;
+        self.record(self.t, EventKind::PhaseEnd, pressure, f64::NAN);
         let mut q = self.tracker.summary;
+        q.events = self.events.map(|log| log.events).unwrap_or_default();
         q.rejected_steps = self.rejected;
         q.rhs_evaluations = self.evaluations;
         q.slosh_out_of_range_fraction = if self.t > 0.0 {

@@ -66,6 +66,9 @@ pub struct Summary {
     /// One entry per phase the instance entered, in phase order (shorter than the phase list
     /// when it ran dry or diverged early).
     pub phases: Vec<PhaseSummary>,
+    /// The located events, in time order, when the campaign records them
+    /// ([`crate::campaign::Campaign::record_events`]); empty otherwise.
+    pub events: Vec<super::events::Event>,
 }
 
 /// Quantities of interest of one phase: extremes over the phase's step ends (and, under
@@ -307,6 +310,18 @@ pub fn describe_summary(q: &Summary) -> String {
         if q.diverged { " — DIVERGED" } else { "" },
     ) + &outcomes_text(q)
         + &phases_text(q)
+        + &events_text(q)
+}
+
+/// The located events, one per line, when the instance recorded them.
+fn events_text(q: &Summary) -> String {
+    let names: Vec<String> = q.phases.iter().map(|ph| ph.name.clone()).collect();
+    let text = super::events::describe_events(&q.events, &names);
+    if text.is_empty() {
+        text
+    } else {
+        format!("\n{text}")
+    }
 }
 
 /// One line per phase entered: its extremes and amounts (the `<qoi>.<phase>` columns).
