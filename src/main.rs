@@ -4,7 +4,7 @@
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use cryoslosh::campaign::{Campaign, CampaignError, Integrator};
+use cryoslosh::campaign::{Campaign, CampaignError};
 use cryoslosh::engine::{Backend, CpuEngine};
 use cryoslosh::gpu::context::{self, GpuError};
 use cryoslosh::gpu::engine::GpuEngine;
@@ -343,7 +343,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     ))
                 })?,
             };
-            let backend = select_backend(&backend, threads, c.stepping.integrator)?;
+            let backend = select_backend(&backend, threads)?;
             let until = match until {
                 None => None,
                 Some(spec) => {
@@ -514,9 +514,9 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
 }
 
 /// The engine for `--backend`: `gpu` opens any adapter (software included) or fails with exit
-/// code 2; `auto` takes a hardware GPU when one opens, else the CPU. The GPU integrates with
-/// fixed-step RK4 only: an adaptive campaign on `gpu` exits 2, on `auto` takes the CPU.
-fn select_backend(name: &str, threads: usize, integrator: Integrator) -> anyhow::Result<Backend> {
+/// code 2; `auto` takes a hardware GPU when one opens, else the CPU. Both integrate with either
+/// integrator.
+fn select_backend(name: &str, threads: usize) -> anyhow::Result<Backend> {
     if threads > MAX_THREADS {
         return Err(BadInput(format!(
             "--threads {threads}: at most {MAX_THREADS} (0 takes one per core)"
@@ -524,15 +524,8 @@ fn select_backend(name: &str, threads: usize, integrator: Integrator) -> anyhow:
         .into());
     }
     let gpu = |hardware_only: bool| context::open(hardware_only).and_then(GpuEngine::new);
-    let adaptive = integrator != Integrator::Rk4;
     match name {
         "cpu" => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
-        "gpu" if adaptive => Err(BadInput(format!(
-            "--backend gpu: {}",
-            cryoslosh::gpu::engine::ADAPTIVE_ON_GPU
-        ))
-        .into()),
-        "auto" if adaptive => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
         "gpu" => match gpu(false) {
             Ok(e) => Ok(Backend::Gpu(Box::new(e))),
             Err(e @ GpuError::NoAdapter) => Err(BadInput(format!("--backend gpu: {e}")).into()),

@@ -204,6 +204,35 @@ fn gpu_matches_cpu_on_every_campaign_and_level() {
     }
 }
 
+/// The error-controlled kernel (`shaders/adaptive.wgsl`) against the CPU's Dormand–Prince on
+/// every shipped campaign and level, at the default tolerances: both converge to ~1e-4, so the
+/// same 1e-3 budget holds although their step sequences differ (f32 stages).
+#[test]
+fn gpu_dopri5_matches_cpu_on_every_campaign_and_level() {
+    let Some(gpu) = engine() else { return };
+    let cpu = CpuEngine::new(0).unwrap();
+    for name in CAMPAIGNS {
+        for level in LEVELS {
+            let c = load(
+                name,
+                &[
+                    &format!("campaign.fidelity={level}"),
+                    "campaign.integrator=dopri5",
+                ],
+            );
+            let n = instances(name).min(16);
+            let plan = Plan {
+                campaign: &c,
+                seed: c.seed,
+                total: n,
+            };
+            let a = cpu.run_block(&plan, 0..n).unwrap();
+            let b = gpu.run_block(&plan, 0..n).unwrap();
+            compare(name, &format!("{level}/dopri5"), &a, &b);
+        }
+    }
+}
+
 #[test]
 fn gpu_runs_are_bit_identical() {
     let Some(gpu) = engine() else { return };

@@ -26,8 +26,15 @@ use wgpu::util::DeviceExt;
 /// Invocations per workgroup (the kernel's `@workgroup_size`).
 const WORKGROUP: u32 = 64;
 
-/// The whole kernel source: generated constants and structs, then the shader files.
-pub fn kernel_source() -> String {
+/// The whole kernel source for `integrator`: generated constants and structs, the physics and
+/// observation (`shaders/model.wgsl`), then the stepping loop (`shaders/rk4.wgsl` with entry
+/// point `main`, or `shaders/adaptive.wgsl` with `main_dopri5`). One module per integrator: a
+/// driver that compiles the whole module for each entry point (llvmpipe) pays for one loop only.
+pub fn kernel_source(integrator: Integrator) -> String {
+    let stepping = match integrator {
+        Integrator::Rk4 => include_str!("../../shaders/rk4.wgsl"),
+        Integrator::Dopri5 => include_str!("../../shaders/adaptive.wgsl"),
+    };
     [
         super::params::constants_wgsl(),
         props_wgsl(),
@@ -37,6 +44,7 @@ pub fn kernel_source() -> String {
         GpuPhaseResult::wgsl(),
         GpuControl::wgsl(),
         include_str!("../../shaders/model.wgsl").to_string(),
+        stepping.to_string(),
     ]
     .join("\n")
 }
@@ -44,7 +52,39 @@ pub fn kernel_source() -> String {
 /// Integrates instances with the WGSL kernel.
 pub struct GpuEngine {
     gpu: Gpu,
-    pipeline: wgpu::ComputePipeline,
+    /// Fixed-step RK4, compiled with the engine; Dormand–Prince 5(4), compiled on first use.
+    rk4: wgpu::ComputePipeline,
+    dopri5: std::sync::OnceLock<Result<wgpu::ComputePipeline, String>>,
+}
+
+/// Compile the kernel for `integrator` on `device`.
+fn compile(
+    device: &wgpu::Device,
+    integrator: Integrator,
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("cryoslosh model"),
+        source: wgpu::ShaderSource::Wgsl(kernel_source(integrator).into()),
+    });
+    let entry = match integrator {
+        Integrator::Rk4 => "main",
+        Integrator::Dopri5 => "main_dopri5",
+    };
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    match pollster::block_on(scope.pop()) {
+        Some(e) => Err(GpuError::Runtime(format!(
+            "the model kernel ({entry}) failed to compile: {e}"
+        ))),
+        None => Ok(pipeline),
+    }
 }
 
 /// One instance ready for the device, or already finished on the CPU.
@@ -59,31 +99,19 @@ struct DeviceInstance {
     params: Params,
     phases: Vec<Phase>,
     s0: State,
+    /// `campaign.rtol`, `campaign.atol`.
+    tolerance: (f64, f64),
 }
 
 impl GpuEngine {
-    /// Compile the kernel on `gpu`.
+    /// Compile the RK4 kernel on `gpu` (the error-controlled one on first use).
     pub fn new(gpu: Gpu) -> Result<GpuEngine, GpuError> {
-        let device = &gpu.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("cryoslosh model"),
-            source: wgpu::ShaderSource::Wgsl(kernel_source().into()),
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("cryoslosh model"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Runtime(format!(
-                "the model kernel failed to compile: {e}"
-            )));
-        }
-        Ok(GpuEngine { gpu, pipeline })
+        let rk4 = compile(&gpu.device, Integrator::Rk4)?;
+        Ok(GpuEngine {
+            gpu,
+            rk4,
+            dopri5: std::sync::OnceLock::new(),
+        })
     }
 
     /// The adapter this engine runs on.
@@ -124,7 +152,9 @@ impl GpuEngine {
     }
 
     /// Integrate prepared device instances; results in the same order, and the phase records
-    /// (instance × phase, like `phases`).
+    /// (instance × phase, like `phases`). `fixed_steps`: the most steps of any instance under
+    /// RK4; `None` integrates with error control, in rounds of dispatches until every instance
+    /// is done.
     fn dispatch(
         &self,
         fluid: &GpuFluid,
@@ -132,7 +162,7 @@ impl GpuEngine {
         params: &[GpuParams],
         phases: &[GpuPhase],
         table: &[f32],
-        max_steps: u64,
+        fixed_steps: Option<u64>,
     ) -> Result<(Vec<GpuResult>, Vec<GpuPhaseResult>), GpuError> {
         let device = &self.gpu.device;
         let storage = |label: &str, bytes: &[u8]| {
@@ -152,7 +182,22 @@ impl GpuEngine {
         let b_table = storage("tables", bytemuck::cast_slice(table));
         let b_fluid = storage("fluid", bytemuck::bytes_of(fluid));
         let b_gas = storage("gas", bytemuck::bytes_of(gas));
-        let budget = self.step_budget();
+        // An error-controlled attempt costs about 1,700 loop iterations (seven stages over the
+        // state's slots, the error norm, the dense output, the probe), fourteen times an RK4
+        // step: an eighth of RK4's budget keeps llvmpipe's 65,535 well away.
+        let budget = if fixed_steps.is_some() {
+            self.step_budget()
+        } else {
+            (self.step_budget() / 8).max(1)
+        };
+        let pipeline = if fixed_steps.is_some() {
+            &self.rk4
+        } else {
+            self.dopri5
+                .get_or_init(|| compile(device, Integrator::Dopri5).map_err(|e| e.to_string()))
+                .as_ref()
+                .map_err(|e| GpuError::Runtime(e.clone()))?
+        };
         let b_control = storage(
             "control",
             bytemuck::bytes_of(&GpuControl {
@@ -181,7 +226,7 @@ impl GpuEngine {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let layout = self.pipeline.get_bind_group_layout(0);
+        let layout = pipeline.get_bind_group_layout(0);
         let entries: Vec<wgpu::BindGroupEntry> = [
             &b_params,
             &b_phases,
@@ -204,49 +249,72 @@ impl GpuEngine {
             layout: &layout,
             entries: &entries,
         });
-        // Every instance is done after ceil(max_steps / budget) dispatches (the first also
-        // initialises); each dispatch sees the previous one's writes.
-        let dispatches = max_steps.div_ceil(u64::from(budget)).max(1);
-        let mut enc = device.create_command_encoder(&Default::default());
-        for _ in 0..dispatches {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups((params.len() as u32).div_ceil(WORKGROUP), 1, 1);
+        // Under RK4 every instance is done after ceil(max_steps / budget) dispatches (the first
+        // also initialises); under error control the host dispatches in rounds and reads back
+        // until every instance is done. Each dispatch sees the previous one's writes.
+        let groups = (params.len() as u32).div_ceil(WORKGROUP);
+        let per_round = match fixed_steps {
+            Some(n) => n.div_ceil(u64::from(budget)).max(1),
+            None => ADAPTIVE_DISPATCHES_PER_ROUND,
+        };
+        let mut dispatched = 0u64;
+        loop {
+            let mut enc = device.create_command_encoder(&Default::default());
+            for _ in 0..per_round {
+                let mut pass = enc.begin_compute_pass(&Default::default());
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(groups, 1, 1);
+            }
+            dispatched += per_round;
+            enc.copy_buffer_to_buffer(&b_results, 0, &b_read, 0, size);
+            enc.copy_buffer_to_buffer(&b_phase_results, 0, &b_read, size, phase_size);
+            let index = self.gpu.queue.submit([enc.finish()]);
+            let (tx, rx) = std::sync::mpsc::channel();
+            b_read.map_async(wgpu::MapMode::Read, .., move |r| {
+                let _ = tx.send(r);
+            });
+            device
+                .poll(wgpu::PollType::Wait {
+                    submission_index: Some(index),
+                    timeout: None,
+                })
+                .map_err(|e| GpuError::Runtime(e.to_string()))?;
+            rx.recv()
+                .map_err(|e| GpuError::Runtime(e.to_string()))?
+                .map_err(|e| GpuError::Runtime(e.to_string()))?;
+            let view = b_read
+                .get_mapped_range(..)
+                .map_err(|e| GpuError::Runtime(e.to_string()))?;
+            let (head, tail) = view.split_at(size as usize);
+            let out = bytemuck::cast_slice::<u8, GpuResult>(head).to_vec();
+            let phase_out = bytemuck::cast_slice::<u8, GpuPhaseResult>(tail).to_vec();
+            drop(view);
+            b_read.unmap();
+            let unfinished = out.iter().position(|r| r.done == 0);
+            let attempts = dispatched * u64::from(budget);
+            match unfinished {
+                None => return Ok((out, phase_out)),
+                Some(k) if fixed_steps.is_some() || attempts >= MAX_ADAPTIVE_ATTEMPTS => {
+                    return Err(GpuError::Runtime(format!(
+                        "instance {k} of a batch did not finish in {dispatched} dispatches of \
+                         {budget} steps: the driver cut the kernel short, or its steps \
+                         collapsed"
+                    )));
+                }
+                Some(_) => {}
+            }
         }
-        enc.copy_buffer_to_buffer(&b_results, 0, &b_read, 0, size);
-        enc.copy_buffer_to_buffer(&b_phase_results, 0, &b_read, size, phase_size);
-        let index = self.gpu.queue.submit([enc.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        b_read.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        device
-            .poll(wgpu::PollType::Wait {
-                submission_index: Some(index),
-                timeout: None,
-            })
-            .map_err(|e| GpuError::Runtime(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| GpuError::Runtime(e.to_string()))?
-            .map_err(|e| GpuError::Runtime(e.to_string()))?;
-        let view = b_read
-            .get_mapped_range(..)
-            .map_err(|e| GpuError::Runtime(e.to_string()))?;
-        let (head, tail) = view.split_at(size as usize);
-        let out = bytemuck::cast_slice::<u8, GpuResult>(head).to_vec();
-        let phase_out = bytemuck::cast_slice::<u8, GpuPhaseResult>(tail).to_vec();
-        drop(view);
-        b_read.unmap();
-        if let Some(k) = out.iter().position(|r| r.done == 0) {
-            return Err(GpuError::Runtime(format!(
-                "instance {k} of a batch did not finish in {dispatches} dispatches of {budget} \
-                 steps: the driver cut the kernel short"
-            )));
-        }
-        Ok((out, phase_out))
     }
 }
+
+/// Dispatches per round of error-controlled integration before the host reads back whether
+/// every instance is done.
+const ADAPTIVE_DISPATCHES_PER_ROUND: u64 = 32;
+
+/// Attempted steps after which an error-controlled batch is abandoned (an instance whose
+/// steps collapse is declared diverged by the kernel long before).
+const MAX_ADAPTIVE_ATTEMPTS: u64 = 1 << 32;
 
 /// Sample and resolve instance `i`; instances the kernel cannot take finish on the CPU.
 fn prepare(plan: &Plan, i: u64) -> Prepared {
@@ -259,6 +327,7 @@ fn prepare(plan: &Plan, i: u64) -> Prepared {
                 s0: initial_state(ci, &ci.params),
                 params: ci.params,
                 phases: ci.phases.clone(),
+                tolerance: (ci.stepping.rtol, ci.stepping.atol),
                 inputs,
             }));
         }
@@ -345,6 +414,7 @@ fn summarize(
         &x,
         u64::from(r.steps),
     )
+    .with_costs(u64::from(r.rejected), u64::from(r.evaluations))
 }
 
 /// The phases an instance entered from their kernel records (`simulate::qoi::Tracker`): a phase
@@ -382,9 +452,6 @@ fn phase_summaries(
         .collect()
 }
 
-/// Why a campaign with `campaign.integrator = "dopri5"` does not run here.
-pub const ADAPTIVE_ON_GPU: &str = "the WGSL kernels integrate with fixed-step RK4 only: set campaign.integrator = \"rk4\" or run on the CPU backend (issue 11: error control on the GPU is not built yet)";
-
 impl Engine for GpuEngine {
     fn name(&self) -> &'static str {
         "gpu"
@@ -399,9 +466,7 @@ impl Engine for GpuEngine {
 
     fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
         let c = plan.campaign;
-        if c.stepping.integrator != Integrator::Rk4 {
-            return Err(ADAPTIVE_ON_GPU.to_string());
-        }
+        let fixed = c.stepping.integrator == Integrator::Rk4;
         let first = range.start;
         let mut prepared: Vec<Prepared> = range.into_par_iter().map(|i| prepare(plan, i)).collect();
         let device_idx: Vec<usize> = prepared
@@ -424,11 +489,18 @@ impl Engine for GpuEngine {
                     unreachable!("batch holds device instances only")
                 };
                 max_steps = max_steps.max(d.phases.iter().map(|x| x.steps().0).sum());
-                params.push(GpuParams::new(&d.params, n_phases, &d.s0));
+                params.push(GpuParams::new(&d.params, n_phases, &d.s0, d.tolerance));
                 phases.extend(d.phases.iter().map(|ph| GpuPhase::new(ph, &mut tables)));
             }
             let (results, phase_results) = self
-                .dispatch(&fluid, &gas, &params, &phases, &tables.rows, max_steps)
+                .dispatch(
+                    &fluid,
+                    &gas,
+                    &params,
+                    &phases,
+                    &tables.rows,
+                    fixed.then_some(max_steps),
+                )
                 .map_err(|e| e.to_string())?;
             let summaries: Vec<Summary> = batch
                 .par_iter()

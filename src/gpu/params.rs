@@ -35,7 +35,7 @@ pub mod exc {
 }
 
 /// Why an instance diverged, in [`GpuResult::diverged`] (0: it did not).
-pub const DIVERGED_REASONS: [&str; 12] = [
+pub const DIVERGED_REASONS: [&str; 13] = [
     "",
     "a state slot is not finite",
     "ullage pressure",
@@ -48,6 +48,7 @@ pub const DIVERGED_REASONS: [&str; 12] = [
     "vapour mass",
     "helium mass",
     "layer or bulk mass",
+    "error-controlled step size (it fell below 1e-12 of the phase time)",
 ];
 
 gpu_struct! {
@@ -102,6 +103,10 @@ gpu_struct! {
         pub lever_arm_m: f32,
         pub s0_hi: [f32; NS],
         pub s0_lo: [f32; NS],
+        /// Error control (`campaign.rtol`; `campaign.atol` times each slot's reference scale,
+        /// `simulate::adaptive::reference_scales`).
+        pub rtol: f32,
+        pub atol: [f32; NS],
     }
 }
 
@@ -119,6 +124,19 @@ gpu_struct! {
         pub gamma_rad: f32,
         pub gravity: f32,
         pub exc: [f32; 4],
+        /// Error-controlled stepping (`simulate::adaptive`): the phase's duration and first
+        /// step (s), its step bound, the excitation period (0: none) and the phase-time window
+        /// in which it bounds the step (a gust's), the excitation corners (3.4e38: none) and
+        /// whether the phase excites the liquid at all.
+        pub duration_s: f32,
+        pub first_step_s: f32,
+        pub max_step_s: f32,
+        pub exc_period_s: f32,
+        pub period_from_s: f32,
+        pub period_to_s: f32,
+        pub corner0_s: f32,
+        pub corner1_s: f32,
+        pub excites: u32,
     }
 }
 
@@ -158,6 +176,17 @@ gpu_struct! {
         pub relief_cycles: u32,
         /// |slosh angle| at the last observation, rad (a phase entered there starts with it).
         pub last_angle_rad: f32,
+        /// Error-controlled stepping: the next step's proposal and the time within the phase
+        /// (s), rejected attempts, right-hand-side evaluations, the evaporation rate (kg/s) and
+        /// highest slosh frequency (rad/s) at the last accepted state, and the extreme-seeking
+        /// quantities there (pressure, −pressure, −margin, |angle|, |force|).
+        pub h_s: f32,
+        pub t_phase_s: f32,
+        pub rejected: u32,
+        pub evaluations: u32,
+        pub evap_last: f32,
+        pub omega_last: f32,
+        pub q_last: [f32; 5],
         /// The slosh analog left its range (flag) and for how long, s.
         pub slosh_out: u32,
         pub slosh_out_time_s: f32,
@@ -227,8 +256,9 @@ fn fidelity_code(f: Fidelity) -> u32 {
 }
 
 impl GpuParams {
-    /// Parameters of an instance with parameters `p`, `n_phases` phases and initial state `s0`.
-    pub fn new(p: &Params, n_phases: usize, s0: &State) -> GpuParams {
+    /// Parameters of an instance with parameters `p`, `n_phases` phases, initial state `s0` and
+    /// error-control tolerances `(rtol, atol)` (`campaign.rtol`, `campaign.atol`).
+    pub fn new(p: &Params, n_phases: usize, s0: &State, (rtol, atol): (f64, f64)) -> GpuParams {
         let ht = &p.heat_transfer;
         let mut flags = 0;
         let mut opt = |v: Option<f64>, bit: u32| {
@@ -308,6 +338,8 @@ impl GpuParams {
             lever_arm_m: f(p.vehicle.slosh_lever_arm_m),
             s0_hi,
             s0_lo,
+            rtol: rtol as f32,
+            atol: crate::simulate::adaptive::reference_scales(p, s0).map(|r| (r * atol) as f32),
         }
     }
 }
@@ -389,7 +421,25 @@ impl GpuPhase {
                 (exc::TABLE, [0.0; 4])
             }
         };
+        let (period_from, period_to) = match ph.excitation {
+            Excitation::Gust {
+                start_s,
+                duration_s,
+                ..
+            } => (start_s, start_s + duration_s),
+            _ => (f64::MIN, f64::MAX),
+        };
+        let [corner0, corner1] = ph.breakpoints().map(|b| b.min(f64::from(f32::MAX)));
         GpuPhase {
+            duration_s: ph.duration_s as f32,
+            first_step_s: ph.dt_s as f32,
+            max_step_s: ph.max_step_s as f32,
+            exc_period_s: ph.excitation_period_s().unwrap_or(0.0) as f32,
+            period_from_s: period_from.max(f64::from(f32::MIN)) as f32,
+            period_to_s: period_to.min(f64::from(f32::MAX)) as f32,
+            corner0_s: corner0 as f32,
+            corner1_s: corner1 as f32,
+            excites: u32::from(ph.excitation != Excitation::None),
             kind: phase_code(ph.kind),
             n_steps: n as u32,
             pressurize: u32::from(ph.pressurize),
@@ -466,6 +516,7 @@ pub fn constants_wgsl() -> String {
         ("PHASE_HOLD", phase_code(PhaseKind::Hold)),
         ("PHASE_BURN", phase_code(PhaseKind::Burn)),
         ("PHASE_COAST", phase_code(PhaseKind::Coast)),
+        ("DIVERGED_STEP_SIZE", (DIVERGED_REASONS.len() - 1) as u32),
     ] {
         u(name, v);
     }
@@ -492,6 +543,15 @@ pub fn constants_wgsl() -> String {
             "PRESSURANT_EMPTY_FRACTION",
             crate::simulate::PRESSURANT_EMPTY_FRACTION,
         ),
+        (
+            "ADAPTIVE_STEPS_PER_PERIOD",
+            crate::simulate::adaptive::ADAPTIVE_STEPS_PER_PERIOD,
+        ),
+        (
+            "MIN_STEP_FRACTION",
+            crate::simulate::adaptive::MIN_STEP_FRACTION,
+        ),
+        ("DOPRI_ERROR_ORDER", crate::model::dopri::ERROR_ORDER),
     ] {
         s += &format!("const {name}: f32 = {v:e};\n");
     }

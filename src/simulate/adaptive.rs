@@ -23,7 +23,7 @@ pub const ADAPTIVE_STEPS_PER_PERIOD: f64 = 16.0;
 
 /// Shortest step before an instance is declared diverged, as a fraction of the phase time
 /// scale (max(1 s, phase time)).
-const MIN_STEP_FRACTION: f64 = 1.0e-12;
+pub const MIN_STEP_FRACTION: f64 = 1.0e-12;
 
 /// Reference scale of each state slot, in the slot's unit: the absolute tolerance of slot i is
 /// `atol · scale_i`. Masses: the initial fluid mass; energies: the initial stored energy

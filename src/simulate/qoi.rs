@@ -131,6 +131,16 @@ pub fn cumulative(s: &State, m_vapor_kg: f64, m_vapor0: f64) -> (f64, f64) {
 }
 
 impl Summary {
+    /// The summary with its rejected steps and right-hand-side evaluations set (a backend that
+    /// counts them itself).
+    pub fn with_costs(self, rejected_steps: u64, rhs_evaluations: u64) -> Summary {
+        Summary {
+            rejected_steps,
+            rhs_evaluations,
+            ..self
+        }
+    }
+
     /// Why the instance diverged, or `None` when it did not (the `cryoslosh.diverged` of its
     /// history).
     pub fn divergence(&self) -> Option<&str> {

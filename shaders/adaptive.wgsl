@@ -1,0 +1,481 @@
+// Error-controlled integration on the device (`campaign.integrator = "dopri5"`): the WGSL mirror
+// of src/model/dopri.rs (the Dormand–Prince 5(4) pair, its error norm and dense output) and of
+// src/simulate/adaptive.rs (a step per invocation, bounded by the phase, its excitation and the
+// slosh period, landing on phase ends and excitation corners; relief-valve switches located on
+// the dense output and the step cut there; extremes between step ends from a probe and a
+// parabola). Change one, change both; tests/gpu_parity.rs checks.
+//
+// Uses model.wgsl's evaluate, observe, outcomes, check_state, merge_empty_bulk, enter_phase,
+// slosh_validity, cavitation_margin and save_last. The state is carried in hi + lo words as under
+// RK4: an accepted step's increment h Σ b_j k_j is added with Kahan compensation.
+
+// Dormand & Prince (1980), as in Hairer, Nørsett & Wanner, Solving ODEs I (DOPRI5).
+var<private> DP_C: array<f32, 7> = array<f32, 7>(0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0);
+var<private> DP_A: array<array<f32, 6>, 6> = array<array<f32, 6>, 6>(
+    array<f32, 6>(0.2, 0.0, 0.0, 0.0, 0.0, 0.0),
+    array<f32, 6>(3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0),
+    array<f32, 6>(44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0),
+    array<f32, 6>(19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0),
+    array<f32, 6>(9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0),
+    array<f32, 6>(35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0),
+);
+var<private> DP_E: array<f32, 7> = array<f32, 7>(
+    71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0,
+);
+var<private> DP_D: array<f32, 7> = array<f32, 7>(
+    -12715105075.0 / 11282082432.0, 0.0, 87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0,
+);
+
+// Where an attempted step ends (adaptive::Landing).
+const LAND_FREE: u32 = 0u;
+const LAND_CORNER: u32 = 1u;
+const LAND_PHASE_END: u32 = 2u;
+
+// The stages of the attempt and the dense output of the accepted step (increments from the
+// step's start: r1 = y1 − y0, r2 = h k1 − r1, r3 = r1 − h k7 − r2, r4 = h Σ d_j k_j).
+var<private> K: array<St, 7>;
+var<private> R1: St;
+var<private> R2: St;
+var<private> R3: St;
+var<private> R4: St;
+
+/// The step-length factor after error norm `err` (dopri::step_factor).
+fn dp_factor(err: f32, rejected: bool) -> f32 {
+    if (!(err < 3.4e38)) {
+        return 0.2;
+    }
+    var f = 5.0;
+    if (err > 0.0) {
+        f = 0.9 * pow(err, -1.0 / DOPRI_ERROR_ORDER);
+    }
+    return clamp(f, 0.2, select(5.0, 1.0, rejected));
+}
+
+/// The longest step the instance may take now (LaneRun::max_step): the phase's bound, a
+/// sixteenth of the excitation period (a gust's only while it blows) and of the slosh period
+/// while the phase excites the liquid or the slosh state is not at rest.
+fn dp_max_step(ph: GpuPhase, t_phase: f32, hi: ptr<function, St>, omega: f32) -> f32 {
+    var h = ph.max_step_s;
+    if (ph.exc_period_s > 0.0 && t_phase >= ph.period_from_s && t_phase < ph.period_to_s) {
+        h = min(h, ph.exc_period_s / ADAPTIVE_STEPS_PER_PERIOD);
+    }
+    let moving = (*hi)[Q1] != 0.0 || (*hi)[Q1D] != 0.0 || (*hi)[Q2] != 0.0 || (*hi)[Q2D] != 0.0;
+    if ((ph.excites != 0u || moving) && omega > 0.0) {
+        h = min(h, 6.283185307 / omega / ADAPTIVE_STEPS_PER_PERIOD);
+    }
+    return h;
+}
+
+/// The highest modelled slosh frequency of a derived state, rad/s.
+fn dp_omega(x: Derived) -> f32 {
+    if (P.fidelity == FID_TWO_MODE) {
+        return max(x.sl.omega.x, x.sl.omega.y);
+    }
+    return x.sl.omega.x;
+}
+
+/// The state at fraction `theta` of the accepted step from `hi` (dense output, f32 hi word).
+fn dp_dense(hi: ptr<function, St>, theta: f32) -> St {
+    let u = 1.0 - theta;
+    var y: St;
+    for (var i = 0u; i < NS; i++) {
+        y[i] = (*hi)[i] + theta * (R1[i] + u * (R2[i] + theta * (R3[i] + u * R4[i])));
+    }
+    return y;
+}
+
+/// The quantities whose extremes are observed between step ends (adaptive::observe_probe):
+/// pressure, −pressure, −cavitation margin, |slosh angle|, |slosh force|. The margin counts only
+/// while the engine draws: [`dp_drawing`] zeroes it otherwise.
+fn dp_extremes(s: ptr<function, St>, ev: Eval) -> array<f32, 5> {
+    let margin = -cavitation_margin(s, ev.x).x;
+    return array<f32, 5>(ev.x.p_u, -ev.x.p_u, margin, abs(slosh_angle(s, ev.x.sl)), abs(ev.force));
+}
+
+/// `q` with the margin zeroed unless the engine draws.
+fn dp_drawing(q: array<f32, 5>, burning: bool) -> array<f32, 5> {
+    var out = q;
+    if (!burning) {
+        out[2] = 0.0;
+    }
+    return out;
+}
+
+/// Abscissa of the vertex of the parabola through three points (adaptive::parabola_vertex).
+fn dp_vertex(a: vec2<f32>, b: vec2<f32>, c: vec2<f32>) -> f32 {
+    let p = b.x - a.x;
+    let q = b.x - c.x;
+    let fa = b.y - c.y;
+    let fc = b.y - a.y;
+    let den = p * fa - q * fc;
+    if (den == 0.0) {
+        return b.x;
+    }
+    return b.x - 0.5 * (p * p * fa - q * q * fc) / den;
+}
+
+/// The relief valve's switching function (P_u − P_crack while closed, P_reseat − P_u while open).
+fn dp_switch(p_u: f32, open: bool) -> f32 {
+    return select(p_u - P.relief_crack_pa, P.relief_reseat_pa - p_u, open);
+}
+
+/// The step fraction in [lo.x, hi.x] where the switching function crosses zero, g(lo) < 0 ≤
+/// g(hi): Illinois regula falsi on the dense output (adaptive::locate), to f32's resolution.
+fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2<f32>, hi_in: vec2<f32>, open: bool, r: ptr<function, GpuResult>) -> f32 {
+    var lo = lo_in;
+    var hi = hi_in;
+    var side = 0;
+    for (var it = 0u; it < 40u; it++) {
+        if (hi.x - lo.x <= 1.0e-6) {
+            break;
+        }
+        var th = (lo.x * hi.y - hi.x * lo.y) / (hi.y - lo.y);
+        if (!(th > lo.x && th < hi.x)) {
+            th = 0.5 * (lo.x + hi.x);
+        }
+        var y = dp_dense(hi_s, th);
+        let x = derive_state(&y, phase_drive(ph, t0 + th * h, open));
+        (*r).evaluations += 1u;
+        let v = dp_switch(x.p_u, open);
+        if (v >= 0.0) {
+            hi = vec2<f32>(th, v);
+            if (side == 1) {
+                lo.y *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = vec2<f32>(th, v);
+            if (side == -1) {
+                hi.y *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    return hi.x;
+}
+
+/// The first step after a discontinuity: the interface's relaxation time (adaptive::restart_step).
+fn dp_restart(ev: Eval) -> f32 {
+    return select(3.4e38, 1.0 / ev.relax, ev.relax > 0.0);
+}
+
+// One dispatch advances every unfinished instance by up to control.step_budget attempted steps.
+@compute @workgroup_size(64)
+fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= arrayLength(&results)) {
+        return;
+    }
+    var r = results[i];
+    if (r.done != 0u) {
+        return;
+    }
+    P = params[i];
+    FL = fluid[0];
+    HE = gas[0];
+    TANK = P.tank;
+    let base = i * P.n_phases;
+
+    var hi: St;
+    var lo: St;
+    if (r.started == 0u) {
+        for (var j = 0u; j < NS; j++) {
+            hi[j] = P.s0_hi[j];
+            lo[j] = P.s0_lo[j];
+        }
+        r.started = 1u;
+        r.peak_pressure_pa = -3.4e38;
+        r.min_pressure_pa = 3.4e38;
+        let ph0 = phases[base];
+        let d0 = phase_drive(ph0, 0.0, false);
+        let ev0 = evaluate(&hi, d0, ph0.first_step_s);
+        r.evaluations = 1u;
+        r.m_vapor0_kg = ev0.x.m_v;
+        r.m_liquid0_kg = ev0.x.m_l;
+        save_last(&r, ev0.x);
+        r.last_angle_rad = abs(slosh_angle(&hi, ev0.x.sl));
+        enter_phase(base, &r, &hi, &lo);
+        PHASE_SLOT = base;
+        observe(&r, &hi, 0.0, ev0, d0);
+        r.h_s = ph0.first_step_s;
+        r.evap_last = ev0.evap;
+        r.omega_last = dp_omega(ev0.x);
+        r.q_last = dp_extremes(&hi, ev0);
+        for (var j = 0u; j < NS; j++) {
+            r.k1[j] = ev0.ds[j];
+        }
+        r.have_k1 = 1u;
+    } else {
+        for (var j = 0u; j < NS; j++) {
+            hi[j] = r.s_hi[j];
+            lo[j] = r.s_lo[j];
+        }
+    }
+    for (var j = 0u; j < NS; j++) {
+        K[0][j] = r.k1[j];
+    }
+    var valve = r.valve_open != 0u;
+    var have_k1 = r.have_k1 != 0u;
+    var ip = r.phase;
+    PHASE_SLOT = base + min(ip, P.n_phases - 1u);
+    var budget = control.step_budget;
+    loop {
+        if (ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u || budget == 0u) {
+            break;
+        }
+        budget -= 1u;
+        let ph = phases[base + ip];
+        let t0 = r.t_phase_s;
+        if (!have_k1) {
+            K[0] = evaluate(&hi, phase_drive(ph, t0, valve), r.h_s).ds;
+            r.evaluations += 1u;
+            have_k1 = true;
+        }
+        // The attempt: the proposal, bounded, cut at a corner or the phase end.
+        var h = min(r.h_s, dp_max_step(ph, t0, &hi, r.omega_last));
+        var landing = LAND_FREE;
+        var corner = 0.0;
+        for (var c = 0u; c < 2u; c++) {
+            let bp = select(ph.corner0_s, ph.corner1_s, c == 1u);
+            if (landing == LAND_FREE && bp > t0 && t0 + h >= bp - 1.0e-6 * h) {
+                h = bp - t0;
+                landing = LAND_CORNER;
+                corner = bp;
+            }
+        }
+        let remaining = ph.duration_s - t0;
+        if (h >= remaining - 1.0e-6 * h) {
+            h = remaining;
+            landing = LAND_PHASE_END;
+        }
+        // Stages 2–7 (stage 7's state is the fifth-order end, its rates the next k1).
+        var ev7: Eval;
+        var y7: St;
+        for (var stage = 1u; stage < 7u; stage++) {
+            var y: St;
+            for (var j = 0u; j < NS; j++) {
+                var inc = 0.0;
+                for (var m = 0u; m < stage; m++) {
+                    inc += DP_A[stage - 1u][m] * K[m][j];
+                }
+                y[j] = hi[j] + h * inc;
+            }
+            let ev = evaluate(&y, phase_drive(ph, t0 + DP_C[stage] * h, valve), h);
+            K[stage] = ev.ds;
+            if (stage == 6u) {
+                ev7 = ev;
+                y7 = y;
+            }
+        }
+        r.evaluations += 6u;
+        // The error norm, with the stiff terms' lag held to the vapour-mass tolerance.
+        var err = 0.0;
+        for (var j = 0u; j < NS; j++) {
+            var e = 0.0;
+            for (var m = 0u; m < 7u; m++) {
+                e += DP_E[m] * K[m][j];
+            }
+            let scale = P.atol[j] + P.rtol * max(abs(hi[j] + lo[j]), abs(y7[j]));
+            let ratio = abs(e * h) / scale;
+            if (!(ratio <= err)) {
+                err = ratio;
+            }
+        }
+        let lag = abs(h * (ev7.evap - r.evap_last)) * 0.5
+            / (P.atol[M_V] + P.rtol * max(abs(hi[M_V] + lo[M_V]), abs(y7[M_V])));
+        if (!(lag <= err)) {
+            err = lag;
+        }
+        if (!(err <= 1.0)) {
+            r.rejected += 1u;
+            r.h_s = h * dp_factor(err, true);
+            let floor = MIN_STEP_FRACTION * max(t0, 1.0);
+            if (!(r.h_s > floor)) {
+                r.diverged = DIVERGED_STEP_SIZE;
+                r.diverged_value = r.h_s;
+                r.diverged_time_s = r.phase_start_s + t0;
+                r.diverged_phase = ip;
+                break;
+            }
+            continue;
+        }
+
+        // Accepted: the dense output's coefficients.
+        for (var j = 0u; j < NS; j++) {
+            var b = 0.0;
+            var d = 0.0;
+            for (var m = 0u; m < 7u; m++) {
+                if (m < 6u) {
+                    b += DP_A[5][m] * K[m][j];
+                }
+                d += DP_D[m] * K[m][j];
+            }
+            R1[j] = h * b;
+            R2[j] = h * K[0][j] - R1[j];
+            R3[j] = R1[j] - h * K[6][j] - R2[j];
+            R4[j] = h * d;
+        }
+        // The mid-step probe and the valve's switching function along the step.
+        var y_mid = dp_dense(&hi, 0.5);
+        let d_mid = phase_drive(ph, t0 + 0.5 * h, valve);
+        let ev_mid = evaluate(&y_mid, d_mid, h);
+        r.evaluations += 1u;
+        var theta_end = 1.0;
+        var cut = false;
+        let open = valve;
+        if ((P.flags & FLAG_RELIEF) != 0u) {
+            let g0 = dp_switch(r.p_ullage_pa, open);
+            let gm = dp_switch(ev_mid.x.p_u, open);
+            let g1 = dp_switch(ev7.x.p_u, open);
+            if (gm >= 0.0) {
+                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.0, g0), vec2<f32>(0.5, gm), open, &r);
+                cut = true;
+            } else if (g1 >= 0.0) {
+                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.5, gm), vec2<f32>(1.0, g1), open, &r);
+                cut = true;
+            }
+        }
+        var hi_prev = hi;
+        let lo_prev = lo;
+        let u = 1.0 - theta_end;
+        for (var j = 0u; j < NS; j++) {
+            // Kahan: the value is hi + lo; lo keeps what the f32 hi word could not take.
+            var step = R1[j];
+            if (cut) {
+                step = theta_end * (R1[j] + u * (R2[j] + theta_end * (R3[j] + u * R4[j])));
+            }
+            let inc = step + lo[j];
+            let sum = (hi[j] + inc) * control.one;
+            lo[j] = inc - (sum - hi[j]);
+            hi[j] = sum;
+        }
+        var t_end = t0 + h;
+        if (cut) {
+            t_end = t0 + theta_end * h;
+            valve = !open;
+        } else if (landing == LAND_PHASE_END) {
+            t_end = ph.duration_s;
+        } else if (landing == LAND_CORNER) {
+            t_end = corner;
+        }
+        var d_end = phase_drive(ph, t_end, valve);
+        var ev_end = ev7;
+        if (cut) {
+            ev_end = evaluate(&hi, d_end, h);
+            r.evaluations += 1u;
+        }
+        if (merge_empty_bulk(&hi, &lo)) {
+            ev_end = evaluate(&hi, d_end, h);
+            r.evaluations += 1u;
+        }
+        r.steps += 1u;
+        let mission = r.phase_start_s + t_end;
+        r.final_time_s = mission;
+        let bad = check_state(&hi, ev_end.x);
+        let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
+        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], r.phase_start_s + t0, mission, ev_end)) {
+            if (bad.x == 0.0) {
+                save_last(&r, ev_end.x);
+            } else {
+                hi = hi_prev;
+                lo = lo_prev;
+            }
+            r.t_phase_s = t_end;
+            break;
+        }
+        if (cut && !open) {
+            r.relief_cycles += 1u;
+        }
+        if (bad.x != 0.0) {
+            r.diverged = u32(bad.x);
+            r.diverged_value = bad.y;
+            r.diverged_time_s = mission;
+            r.diverged_phase = ip;
+            r.t_phase_s = t_end;
+            break;
+        }
+        // Extremes between the step ends: the probe (at mid-step, or inside a cut step), then
+        // the vertex of the parabola through start, probe and end where the probe is extreme.
+        var th_m = 0.5;
+        var s_m = y_mid;
+        var ev_m = ev_mid;
+        var d_m = d_mid;
+        if (theta_end <= 0.5) {
+            th_m = 0.5 * theta_end;
+            s_m = dp_dense(&hi_prev, th_m);
+            d_m = phase_drive(ph, t0 + th_m * h, open);
+            ev_m = evaluate(&s_m, d_m, h);
+            r.evaluations += 1u;
+        }
+        observe(&r, &s_m, r.phase_start_s + t0 + th_m * h, ev_m, d_m);
+        let q_end = dp_extremes(&hi, ev_end);
+        let q_m = dp_drawing(dp_extremes(&s_m, ev_m), d_m.burning);
+        let q_e = dp_drawing(q_end, d_m.burning);
+        let q_0 = dp_drawing(r.q_last, d_m.burning);
+        var vertices = array<f32, 5>(-1.0, -1.0, -1.0, -1.0, -1.0);
+        var n_vertices = 0u;
+        for (var j = 0u; j < 5u; j++) {
+            if (q_m[j] > q_0[j] && q_m[j] > q_e[j]) {
+                let v = dp_vertex(vec2<f32>(0.0, q_0[j]), vec2<f32>(th_m, q_m[j]), vec2<f32>(theta_end, q_e[j]));
+                var distinct = v > 0.0 && v < theta_end;
+                for (var m = 0u; m < n_vertices; m++) {
+                    distinct = distinct && abs(vertices[m] - v) > 1.0e-3 * theta_end;
+                }
+                if (distinct) {
+                    vertices[n_vertices] = v;
+                    n_vertices += 1u;
+                }
+            }
+        }
+        for (var m = 0u; m < n_vertices; m++) {
+            let v = vertices[m];
+            var s_v = dp_dense(&hi_prev, v);
+            let d_v = phase_drive(ph, t0 + v * h, open);
+            let ev_v = evaluate(&s_v, d_v, h);
+            r.evaluations += 1u;
+            observe(&r, &s_v, r.phase_start_s + t0 + v * h, ev_v, d_v);
+        }
+        observe(&r, &hi, mission, ev_end, d_end);
+        slosh_validity(&r, &hi, t_end - t0, ev_end, d_end);
+
+        // The next proposal.
+        let grown = h * dp_factor(err, false);
+        if (cut || landing != LAND_FREE) {
+            r.h_s = max(r.h_s, grown);
+        } else {
+            r.h_s = grown;
+        }
+        if (cut) {
+            r.h_s = min(r.h_s, dp_restart(ev_end));
+        }
+        r.t_phase_s = t_end;
+        save_last(&r, ev_end.x);
+        r.evap_last = ev_end.evap;
+        r.omega_last = dp_omega(ev_end.x);
+        r.q_last = q_end;
+        K[0] = ev_end.ds;
+        if (!cut && landing == LAND_PHASE_END) {
+            ip += 1u;
+            if (ip < P.n_phases) {
+                PHASE_SLOT = base + ip;
+                enter_phase(PHASE_SLOT, &r, &hi, &lo);
+                r.phase_start_s = mission;
+                r.t_phase_s = 0.0;
+                r.h_s = min(phases[base + ip].first_step_s, dp_restart(ev_end));
+                have_k1 = false;
+            }
+        }
+    }
+    r.phase = ip;
+    r.valve_open = u32(valve);
+    r.have_k1 = u32(have_k1);
+    r.done = u32(ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u);
+    for (var j = 0u; j < NS; j++) {
+        r.s_hi[j] = hi[j];
+        r.s_lo[j] = lo[j];
+        r.k1[j] = K[0][j];
+    }
+    results[i] = r;
+}

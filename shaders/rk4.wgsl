@@ -1,0 +1,148 @@
+// Fixed-step RK4 on the device (`campaign.integrator = "rk4"`): the WGSL mirror of the step loop
+// in src/simulate/mod.rs (integrate_fixed, LaneRun::after_step). Uses model.wgsl's physics and
+// observation functions; tests/gpu_parity.rs checks.
+
+// One dispatch advances every unfinished instance by up to control.step_budget steps and
+// carries the rest in its result record: dispatches stay short on hardware with a watchdog,
+// and llvmpipe's cap of 65,535 loop iterations per invocation is never reached.
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= arrayLength(&results)) {
+        return;
+    }
+    var r = results[i];
+    if (r.done != 0u) {
+        return;
+    }
+    P = params[i];
+    FL = fluid[0];
+    HE = gas[0];
+    TANK = P.tank;
+    let base = i * P.n_phases;
+
+    // Element-wise copies: naga types a struct member's array apart from the function-scope St.
+    var hi: St;
+    var lo: St;
+    var k1: St;
+    if (r.started == 0u) {
+        for (var j = 0u; j < NS; j++) {
+            hi[j] = P.s0_hi[j];
+            lo[j] = P.s0_lo[j];
+        }
+        r.started = 1u;
+        r.peak_pressure_pa = -3.4e38;
+        r.min_pressure_pa = 3.4e38;
+        let ph0 = phases[base];
+        let d0 = phase_drive(ph0, 0.0, false);
+        let ev0 = evaluate(&hi, d0, ph0.dt);
+        r.m_vapor0_kg = ev0.x.m_v;
+        r.m_liquid0_kg = ev0.x.m_l;
+        save_last(&r, ev0.x);
+        r.last_angle_rad = abs(slosh_angle(&hi, ev0.x.sl));
+        enter_phase(base, &r, &hi, &lo);
+        PHASE_SLOT = base;
+        observe(&r, &hi, 0.0, ev0, d0);
+    } else {
+        for (var j = 0u; j < NS; j++) {
+            hi[j] = r.s_hi[j];
+            lo[j] = r.s_lo[j];
+            k1[j] = r.k1[j];
+        }
+    }
+    var valve = r.valve_open != 0u;
+    var have_k1 = r.have_k1 != 0u;
+    var ip = r.phase;
+    var k = r.step_in_phase;
+    PHASE_SLOT = base + min(ip, P.n_phases - 1u);
+    var k2: St;
+    var k3: St;
+    var k4: St;
+    var budget = control.step_budget;
+    loop {
+        if (ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u) {
+            break;
+        }
+        let ph = phases[base + ip];
+        if (k >= ph.n_steps) {
+            ip += 1u;
+            k = 0u;
+            have_k1 = false;
+            r.phase_start_s = r.final_time_s;
+            if (ip < P.n_phases) {
+                PHASE_SLOT = base + ip;
+                enter_phase(PHASE_SLOT, &r, &hi, &lo);
+            }
+            continue;
+        }
+        if (budget == 0u) {
+            break;
+        }
+        let dt = ph.dt;
+        let tp = f32(k) * dt;
+        let dm = phase_drive(ph, tp + 0.5 * dt, valve);
+        if (!have_k1) {
+            k1 = evaluate(&hi, phase_drive(ph, tp, valve), dt).ds;
+        }
+        let hi_prev = hi;
+        let lo_prev = lo;
+        k2 = rates_at(&hi, 0.5 * dt, &k1, dm, dt);
+        k3 = rates_at(&hi, 0.5 * dt, &k2, dm, dt);
+        k4 = rates_at(&hi, dt, &k3, phase_drive(ph, tp + dt, valve), dt);
+        for (var j = 0u; j < NS; j++) {
+            // Kahan: the value is hi + lo; lo keeps what the f32 hi word could not take.
+            let inc = dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) + lo[j];
+            let sum = (hi[j] + inc) * control.one;
+            lo[j] = inc - (sum - hi[j]);
+            hi[j] = sum;
+        }
+        let merged = merge_empty_bulk(&hi, &lo);
+        r.steps += 1u;
+        budget -= 1u;
+        k += 1u;
+        let tn = f32(k) * dt;
+        let t = r.phase_start_s + tn;
+        r.final_time_s = t;
+        let d = phase_drive(ph, tn, valve);
+        let ev = evaluate(&hi, d, dt);
+        let bad = check_state(&hi, ev.x);
+        let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
+        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev)) {
+            if (bad.x == 0.0) {
+                save_last(&r, ev.x);
+            } else {
+                hi = hi_prev;
+                lo = lo_prev;
+            }
+            break;
+        }
+        if (bad.x != 0.0) {
+            r.diverged = u32(bad.x);
+            r.diverged_value = bad.y;
+            r.diverged_time_s = t;
+            r.diverged_phase = ip;
+            break;
+        }
+        observe(&r, &hi, t, ev, d);
+        slosh_validity(&r, &hi, dt, ev, d);
+        let before = valve;
+        valve = update_valve(ev.x.p_u, valve);
+        if (valve && !before) {
+            r.relief_cycles += 1u;
+        }
+        have_k1 = valve == before && k != ph.n_steps && !merged;
+        k1 = ev.ds;
+        save_last(&r, ev.x);
+    }
+    r.phase = ip;
+    r.step_in_phase = k;
+    r.valve_open = u32(valve);
+    r.have_k1 = u32(have_k1);
+    r.done = u32(ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u);
+    for (var j = 0u; j < NS; j++) {
+        r.s_hi[j] = hi[j];
+        r.s_lo[j] = lo[j];
+        r.k1[j] = k1[j];
+    }
+    results[i] = r;
+}
