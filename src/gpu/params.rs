@@ -443,6 +443,10 @@ pub fn constants_wgsl() -> String {
         ("PHASE_HOLD", phase_code(PhaseKind::Hold)),
         ("PHASE_BURN", phase_code(PhaseKind::Burn)),
         ("PHASE_COAST", phase_code(PhaseKind::Coast)),
+        (
+            "STIFF_BLEND_ORDER",
+            crate::model::thermal::STIFF_BLEND_ORDER,
+        ),
     ] {
         u(name, v);
     }
