@@ -149,3 +149,38 @@ pub fn orifice_flow<T: Real>(area_m2: T, p_up: T, p_down: T, t_k: T, r: T, gamma
     let closed = p_up.le(p_down) | p_up.le(c(0.0));
     T::select(closed, c(0.0), area_m2 * p_up * flux)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The blend's properties (docs/INTEGRATION.md): 1 − a = z w at any z (the quasi-steady rate
+    /// F/J whatever the step), the explicit rate to O(z⁶) for a resolved mode, implicit Euler's
+    /// 1/z for a stiff one, h λ_eff = z a < 1 (stable explicit stages; ≤ 1 after rounding),
+    /// continuous across the switch to the 1/z evaluation at z = 1, no overflow at z = 1e12.
+    #[test]
+    fn stiff_blend_limits() {
+        for &z in &[
+            0.0, 1e-3, 0.1, 0.5, 0.999_999, 1.0, 1.000_001, 2.0, 10.0, 1e3, 1e6, 1e12,
+        ] {
+            let (a, w) = stiff_blend(z);
+            assert!(
+                ((1.0 - a) - z * w).abs() <= 1e-15 * (1.0 + z * w),
+                "z {z}: {a} {w}"
+            );
+            assert!(z * a <= 1.0 && a > 0.0 && w >= 0.0, "z {z}: {a} {w}");
+        }
+        let (a, w) = stiff_blend(1e-2);
+        // z = 0.01: 1 − a = z⁶/S₆(z) and w = z⁵/S₆(z), S₆ = 1.0101….
+        assert!(((1.0 - a) / 1e-12 * 1.0101 - 1.0).abs() < 1e-3, "{a}");
+        assert!((w / 1e-10 * 1.0101 - 1.0).abs() < 1e-4, "{w}");
+        let (a, w) = stiff_blend(1e4);
+        assert!(
+            (a * 1e4 - 1.0).abs() < 1e-12 && (w * 1e4 - 1.0).abs() < 2e-4,
+            "{a} {w}"
+        );
+        let (lo, hi) = (stiff_blend(1.0 - 1e-12), stiff_blend(1.0 + 1e-12));
+        assert!((lo.0 - hi.0).abs() < 1e-11 && (lo.1 - hi.1).abs() < 1e-11);
+        assert_eq!(stiff_blend(1.0), (6.0 / 7.0, 1.0 / 7.0));
+    }
+}
