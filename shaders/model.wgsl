@@ -416,14 +416,26 @@ fn h_unstable_interface(p: Conv, accel: f32, dt_unstable_k: f32, length_m: f32) 
     return 0.15 * pow(rp.x, 1.0 / 3.0) * p.k / length;
 }
 
-/// Wall-to-fluid heat over a step, implicit in ΔT with the wall's own warming rate `warming`
-/// (heat leak / wall heat capacity, K/s; thermal::wall_exchange).
-fn wall_exchange(ua: f32, dt: f32, c_wall: f32, c_fluid: f32, dtemp: f32, warming: f32) -> f32 {
-    return limited_conductance(ua, dt, c_wall, c_fluid) * (dtemp + dt * warming);
+/// Weights (a, w) of a stiff relaxation's rate K (a Δ + w h F) at z = h K J: a = S5(z)/S6(z),
+/// w = z^5/S6(z), S_n = 1 + z + … + z^n, evaluated in 1/z beyond z = 1 (thermal::stiff_blend).
+fn stiff_blend(z: f32) -> vec2<f32> {
+    let big = z > 1.0;
+    let v = select(z, 1.0 / z, big);
+    var s_lo = 1.0;
+    var v_lo = 1.0;
+    for (var i = 1u; i < STIFF_BLEND_ORDER; i += 1u) {
+        s_lo = s_lo * v + 1.0;
+        v_lo = v_lo * v;
+    }
+    let s_hi = s_lo + v_lo * v;
+    return vec2<f32>(s_lo / s_hi * select(1.0, v, big), select(v_lo, v, big) / s_hi);
 }
 
-fn limited_conductance(ua: f32, dt: f32, c_a: f32, c_b: f32) -> f32 {
-    return ua / (1.0 + dt * ua * (1.0 / c_a + 1.0 / c_b));
+/// Wall-to-fluid heat over a step, stiff in ΔT with the wall's own warming rate `warming`
+/// (heat leak / wall heat capacity, K/s; thermal::wall_exchange).
+fn wall_exchange(ua: f32, dt: f32, c_wall: f32, c_fluid: f32, dtemp: f32, warming: f32) -> f32 {
+    let aw = stiff_blend(dt * ua * (1.0 / c_wall + 1.0 / c_fluid));
+    return ua * (aw.x * dtemp + aw.y * dt * warming);
 }
 
 fn schrage_coefficient(area: f32, sigma: f32, molar_mass: f32, t: f32) -> f32 {
@@ -648,14 +660,20 @@ fn evap_dp_rate(s: ptr<function, St>, x: Derived, c: EvapTail, r: array<f32, 5>,
     return c.dpsat_dt * dt_s - dp_v;
 }
 
-/// The linearly implicit evaporation rate with its forcing (nodes::implicit_evaporation).
+/// The stiff evaporation rate of one side's J (nodes::implicit_evaporation).
+fn evap_rate(kd: vec2<f32>, dt: f32, forcing: f32, j: f32) -> f32 {
+    let aw = stiff_blend(dt * kd.x * j);
+    return kd.x * (aw.x * kd.y + aw.y * dt * forcing);
+}
+
+/// The stiff evaporation rate with its forcing, J on each side (nodes::implicit_evaporation).
 fn implicit_evaporation(s: ptr<function, St>, x: Derived, c: EvapTail, kd: vec2<f32>, dt: f32, dm_g: f32) -> f32 {
     let forcing = evap_dp_rate(s, x, c, evap_tail(c, 0.0), dm_g);
-    let numerator = kd.y + dt * forcing;
-    let side = select(-1.0, 1.0, numerator >= 0.0);
-    let j = max((forcing - evap_dp_rate(s, x, c, evap_tail(c, side), dm_g)) * side, 0.0);
-    EVAP_RELAX = kd.x * j;
-    return kd.x * numerator / (dt * kd.x * j + 1.0);
+    let j_evap = max(forcing - evap_dp_rate(s, x, c, evap_tail(c, 1.0), dm_g), 0.0);
+    let j_cond = max(evap_dp_rate(s, x, c, evap_tail(c, -1.0), dm_g) - forcing, 0.0);
+    let m = max(evap_rate(kd, dt, forcing, j_evap), 0.0) + min(evap_rate(kd, dt, forcing, j_cond), 0.0);
+    EVAP_RELAX = kd.x * select(j_cond, j_evap, m >= 0.0);
+    return m;
 }
 
 /// Lumped / two_mode right-hand side into ds; returns the lateral slosh force.

@@ -1,9 +1,9 @@
 //! Error-controlled integration (issue 11): the relief valve's crack is located in time, results
-//! at the default tolerances agree with 100× tighter ones, and `simulate` under `dopri5` keeps
-//! mass and energy closed.
+//! at the default tolerances agree with 100× tighter ones on every shipped campaign and level,
+//! and `simulate` under `dopri5` keeps mass and energy closed.
 
 mod common;
-use common::{load, mixture_du_dt};
+use common::{load, mixture_du_dt, CAMPAIGNS, LEVELS};
 use cryoslosh::campaign::Campaign;
 use cryoslosh::simulate::{simulate, History};
 use std::path::Path;
@@ -60,83 +60,74 @@ fn relief_crack_time_matches_closed_form_rate() {
     assert!((t_model / t - 1.0).abs() < 1e-3, "{t_model} vs {t}");
 }
 
-/// Headline QoIs at the default tolerances against 100× tighter ones: peak pressure, minimum
-/// cavitation margin and maximum slosh angle within 1e-4 relative (with a floor of each QoI's
-/// resolution). Boil-off and vented mass are held to the 3e-3 measured now: the implicit-Euler
-/// lag of the stiff evaporation is first order (issue 11 asks 1e-4; docs/INTEGRATION.md).
+/// Issue 11's convergence point: on every shipped campaign and level, peak pressure, boil-off,
+/// vented mass, minimum cavitation margin and maximum slosh angle at the default tolerances
+/// (rtol 1e-6, atol 1e-9) are within 1e-4 relative of rtol 1e-8, atol 1e-11 (with a floor of
+/// each QoI's resolution: 1 Pa, 1e-5 kg, 1e-3 m, 1e-6 rad). The venting LCH4 coast and the
+/// draining LOX ascent missed by 6.5e-4 and 3.4e-4 on boil-off while the stiff evaporation and
+/// wall exchange were implicit Euler over the step (first order); with `thermal::stiff_blend`
+/// the worst is 7.9e-5 (MHTB lumped boil-off; docs/INTEGRATION.md). Whole missions: about 5 s
+/// in release.
 #[test]
 fn default_tolerances_agree_with_tighter_ones() {
-    let cases = [
-        ("mhtb_selfpress", "homogeneous"),
-        ("mhtb_selfpress", "lumped"),
-        ("mhtb_selfpress", "two_mode"),
-        ("aydelott_sphere", "homogeneous"),
-        ("aydelott_sphere", "lumped"),
-        ("lch4_coast", "homogeneous"),
-        ("lox_ascent", "homogeneous"),
-        ("lh2_upper_stage", "homogeneous"),
-        ("lh2_upper_stage", "lumped"),
-        ("lox_ascent", "lumped"),
-        ("lch4_coast", "lumped"),
-    ];
-    for (name, level) in cases {
-        let run = |rtol: f64, atol: f64| {
-            let c = load(
-                name,
-                &[
-                    &format!("campaign.fidelity={level}"),
-                    "campaign.integrator=dopri5",
-                    &format!("campaign.rtol={rtol}"),
-                    &format!("campaign.atol={atol}"),
-                ],
-            );
-            let q = simulate(&c, &c.params, None);
-            assert!(!q.diverged, "{name}/{level}: {:?}", q.diverged_reason);
-            assert!(
-                q.mass_error_rel < 1e-12,
-                "{name}/{level}: {}",
-                q.mass_error_rel
-            );
-            assert!(
-                q.energy_error_rel < 1e-12,
-                "{name}/{level}: {}",
-                q.energy_error_rel
-            );
-            q
-        };
-        let (a, b) = (run(1e-6, 1e-9), run(1e-8, 1e-11));
-        let pairs = [
-            (
-                "peak_pressure_pa",
-                a.peak_pressure_pa,
-                b.peak_pressure_pa,
-                1.0,
-                1e-4,
-            ),
-            ("boiloff_kg", a.boiloff_kg, b.boiloff_kg, 1e-5, 3e-3),
-            ("vented_kg", a.vented_kg, b.vented_kg, 1e-5, 3e-3),
-            (
-                "min_cavitation_margin_m",
-                a.min_cavitation_margin_m.unwrap_or(0.0),
-                b.min_cavitation_margin_m.unwrap_or(0.0),
-                1e-3,
-                1e-4,
-            ),
-            (
-                "max_slosh_angle_rad",
-                a.max_slosh_angle_rad,
-                b.max_slosh_angle_rad,
-                1e-6,
-                1e-4,
-            ),
-        ];
-        for (what, x, y, floor, bound) in pairs {
-            let rel = (x - y).abs() / y.abs().max(floor);
+    for name in CAMPAIGNS {
+        for level in LEVELS {
+            let run = |rtol: f64, atol: f64| {
+                let c = load(
+                    name,
+                    &[
+                        &format!("campaign.fidelity={level}"),
+                        "campaign.integrator=dopri5",
+                        &format!("campaign.rtol={rtol}"),
+                        &format!("campaign.atol={atol}"),
+                    ],
+                );
+                let q = simulate(&c, &c.params, None);
+                assert!(!q.diverged, "{name}/{level}: {:?}", q.diverged_reason);
+                assert!(
+                    q.mass_error_rel < 1e-12,
+                    "{name}/{level}: {}",
+                    q.mass_error_rel
+                );
+                assert!(
+                    q.energy_error_rel < 1e-12,
+                    "{name}/{level}: {}",
+                    q.energy_error_rel
+                );
+                q
+            };
+            let (a, b) = (run(1e-6, 1e-9), run(1e-8, 1e-11));
+            let pairs = [
+                (
+                    "peak_pressure_pa",
+                    a.peak_pressure_pa,
+                    b.peak_pressure_pa,
+                    1.0,
+                ),
+                ("boiloff_kg", a.boiloff_kg, b.boiloff_kg, 1e-5),
+                ("vented_kg", a.vented_kg, b.vented_kg, 1e-5),
+                (
+                    "min_cavitation_margin_m",
+                    a.min_cavitation_margin_m.unwrap_or(0.0),
+                    b.min_cavitation_margin_m.unwrap_or(0.0),
+                    1e-3,
+                ),
+                (
+                    "max_slosh_angle_rad",
+                    a.max_slosh_angle_rad,
+                    b.max_slosh_angle_rad,
+                    1e-6,
+                ),
+            ];
             eprintln!(
-                "{name}/{level} {what}: {x} vs {y} ({rel:.2e}); {} vs {} steps",
-                a.steps, b.steps
+                "{name}/{level}: {} vs {} right-hand-side evaluations ({} vs {} steps)",
+                a.rhs_evaluations, b.rhs_evaluations, a.steps, b.steps
             );
-            assert!(rel < bound, "{name}/{level} {what}: {x} vs {y} ({rel:.2e})");
+            for (what, x, y, floor) in pairs {
+                let rel = (x - y).abs() / y.abs().max(floor);
+                eprintln!("  {what}: {x} vs {y} ({rel:.2e})");
+                assert!(rel < 1e-4, "{name}/{level} {what}: {x} vs {y} ({rel:.2e})");
+            }
         }
     }
 }

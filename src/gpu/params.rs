@@ -517,6 +517,10 @@ pub fn constants_wgsl() -> String {
         ("PHASE_BURN", phase_code(PhaseKind::Burn)),
         ("PHASE_COAST", phase_code(PhaseKind::Coast)),
         ("DIVERGED_STEP_SIZE", (DIVERGED_REASONS.len() - 1) as u32),
+        (
+            "STIFF_BLEND_ORDER",
+            crate::model::thermal::STIFF_BLEND_ORDER,
+        ),
     ] {
         u(name, v);
     }

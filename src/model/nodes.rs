@@ -168,7 +168,8 @@ fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits<T>) -> (T,
 }
 
 /// Time derivative of the state at one instant. `dt` is the step the integrator is taking: the
-/// stiff evaporation and wall exchange are implicit over it (see [`implicit_evaporation`]).
+/// stiff evaporation and wall exchange are blended towards implicit over it where the step does
+/// not resolve them (see [`implicit_evaporation`]).
 pub fn rhs<T: Real>(
     g: Group<'_>,
     s: &State<T>,
@@ -375,18 +376,21 @@ pub fn evaporation_driving<T: Real>(
     (k, f.psat_pa(t_s) - x.p_vapor_pa)
 }
 
-/// The evaporation rate over a step of length `dt`, linearly implicit in the interface pressure
-/// difference Δp, and its relaxation rate K·J, 1/s.
+/// The evaporation rate over a step of length `dt`, stiff in the interface pressure difference
+/// Δp, and its relaxation rate K·J, 1/s.
 ///
 /// A realistic K relaxes P_v onto P_sat(T_s) in milliseconds: dΔp/dt = F − J ṁ, with F the rate
-/// at which every other flux moves Δp and J = −∂(dΔp/dt)/∂ṁ. One implicit Euler step of that
-/// relation, ṁ = K (Δp + dt F) / (1 + dt K J), is K Δp when dt K J ≪ 1, stays stable at any K,
-/// and — because F is in it — leaves the physical quasi-steady Δp = F / (K J) at any step, so the
-/// step changes the rate only where F itself changes within it. (Without F the quasi-steady Δp
-/// is (1 + dt K J) times the physical one, a step-dependent pressure offset that an embedded
-/// error estimate cannot see.) F and J come from `dp_rate` applied to the node rates `tail(ṁ)`,
-/// which are affine in ṁ on each side of 0 (evaporation and condensation carry different
-/// enthalpies): J is taken on the side the result falls.
+/// at which every other flux moves Δp and J = −∂(dΔp/dt)/∂ṁ. The rate is
+/// ṁ = K (a Δp + w dt F) with the weights of [`thermal::stiff_blend`] at z = dt K J: K Δp to
+/// O(z⁶) where the step resolves the relaxation (evaporation into helium relaxes in minutes),
+/// implicit Euler's K (Δp + dt F)/(1 + dt K J) where it does not (pure vapour: milliseconds);
+/// stable at any K, and — because F is in it — the physical quasi-steady Δp = F / (K J) at any
+/// step. (Without F the quasi-steady Δp is (1 + dt K J) times the physical one, a
+/// step-dependent pressure offset that an embedded error estimate cannot see.) F and J come
+/// from `dp_rate` applied to the node rates `tail(ṁ)`, which are affine in ṁ on each side of 0
+/// (evaporation and condensation carry different enthalpies), so J has a value on each side:
+/// ṁ = max(ṁ(J₊), 0) + min(ṁ(J₋), 0), continuous where the sign changes (the rate's zero
+/// depends on J once a ≠ w).
 fn implicit_evaporation<T: Real>(
     k: T,
     dp: T,
@@ -395,8 +399,12 @@ fn implicit_evaporation<T: Real>(
     dp_rate: &impl Fn([T; 5]) -> T,
 ) -> (T, T) {
     let forcing = dp_rate(tail(c(0.0)));
-    let numerator = dp + dt * forcing;
-    let side = T::select(numerator.ge(c(0.0)), c(1.0), c(-1.0));
-    let j = ((forcing - dp_rate(tail(side))) * side).max_c(0.0);
-    (k * numerator / (dt * k * j + 1.0), k * j)
+    let j_evap = (forcing - dp_rate(tail(c(1.0)))).max_c(0.0);
+    let j_cond = (dp_rate(tail(c(-1.0))) - forcing).max_c(0.0);
+    let rate = |j: T| {
+        let (a, w) = thermal::stiff_blend(dt * k * j);
+        k * (a * dp + w * dt * forcing)
+    };
+    let m = rate(j_evap).max_c(0.0) + rate(j_cond).min_c(0.0);
+    (m, k * T::select(m.ge(c(0.0)), j_evap, j_cond))
 }

@@ -64,20 +64,56 @@ pub fn h_unstable_interface<T: Real>(
     (ra.ln() * (1.0 / 3.0)).exp() * 0.15 * p.k / length
 }
 
-/// Linearly implicit limiter for a stiff exchange between two heat capacities: the conductance
-/// `ua` (W/K) becomes ua / (1 + dt·ua·(1/C_a + 1/C_b)), so the exchanged heat never overshoots
-/// equilibrium within a step (a thin cryogenic wall relaxes in milliseconds). Exact as dt → 0.
-pub fn limited_conductance<T: Real>(ua: T, dt: T, c_a: T, c_b: T) -> T {
-    ua / (dt * ua * (c_a.rdiv(1.0) + c_b.rdiv(1.0)) + 1.0)
+/// Order of the stiff blend ([`stiff_blend`]): it changes the rate of a mode the step resolves by
+/// O(z^6), a local error O(h^7), one order beyond the fifth-order solution Dormand–Prince
+/// propagates, so that the pair's own error estimate, not the blend, sets the accuracy there.
+pub const STIFF_BLEND_ORDER: u32 = 6;
+
+/// Weights (a, w) of a stiff scalar relaxation's rate over a step, r = K (a Δ + w h F), for
+/// dΔ/dt = F − J r with z = h K J (dimensionless: the step over the relaxation time 1/(K J)):
+///
+/// a = S₅(z) / S₆(z),  w = z⁵ / S₆(z),  S_n(z) = 1 + z + … + zⁿ.
+///
+/// - **Resolved mode** (z ≪ 1): a = 1 − z⁶ + …, w = z⁵ + …: the explicit rate K Δ to O(z⁶), which
+///   the Runge–Kutta pair integrates and its error estimate sees. Implicit Euler, a = w =
+///   1/(1 + z), changes it by O(z): the rate K Δ(t + h), a first-order lead no embedded estimate
+///   sees (it moved boil-off by 3.4e-4 on the LOX ascent, whose helium-limited evaporation relaxes
+///   in minutes); so does the exact step average a = (1 − e^(−z))/z, w = (1 − a)/z, by O(z/2).
+/// - **Stiff mode** (z ≫ 1): a, w → 1/z: implicit Euler's limit, r = F/J + (Δ − Δ*)/(h J) with
+///   Δ* = F/(K J): a residual relaxes within the step.
+/// - **At any step** dΔ/dt = a K J (Δ* − Δ), since 1 − a = z w: the quasi-steady rate is F/J
+///   (minus the physical lag Δ*'/J), independent of h, as with implicit Euler; and the stages see
+///   the mode at h λ_eff = z a(z) = 1 − 1/S₆(z) < 1, inside the stability interval of RK4 (2.78)
+///   and of Dormand–Prince (3.3), at any z.
+///
+/// Construction: the rational blend between the explicit rate (a = 1) and implicit Euler's
+/// (a = 1/(1 + z)) of these two limits, chosen here; the order argument for a resolved mode is the
+/// modified-equation one (Hairer, Nørsett & Wanner I, §II.3), the stiff limit that of singular
+/// perturbation (Hairer & Wanner II, §VI.3). Evaluated in 1/z beyond z = 1 (no overflow in f32):
+/// a = u S₅(u)/S₆(u), w = u/S₆(u), u = 1/z.
+pub fn stiff_blend<T: Real>(z: T) -> (T, T) {
+    let big = z.gt(c(1.0));
+    let v = T::select(big, z.rdiv(1.0), z);
+    // S₅(v) by Horner, v⁵ alongside (p − 1 = 5 for the order p).
+    let mut s_lo = c::<T>(1.0);
+    let mut v_lo = c::<T>(1.0);
+    for _ in 1..STIFF_BLEND_ORDER {
+        s_lo = s_lo * v + 1.0;
+        v_lo *= v;
+    }
+    let s_hi = s_lo + v_lo * v;
+    let a = s_lo / s_hi * T::select(big, v, c(1.0));
+    let w = T::select(big, v, v_lo) / s_hi;
+    (a, w)
 }
 
-/// Heat from a wall node into a fluid node over a step of length `dt`, W: one implicit Euler
-/// step of the temperature difference ΔT = T_wall − T_fluid, dΔT/dt = F − q (1/C_wall +
-/// 1/C_fluid), with q = ua ΔT and F = `forcing_k_s` the rate at which the wall warms on its own
-/// (heat leak / wall heat capacity). q = ua (ΔT + dt F) / (1 + dt ua (1/C_wall + 1/C_fluid)):
-/// stable at any step, ua ΔT as dt → 0, and — F included — the physical quasi-steady ΔT at any
-/// step, where without F the wall would hold dt·F too much (an error an embedded Runge–Kutta
-/// estimate cannot see).
+/// Heat from a wall node into a fluid node over a step of length `dt`, W: the temperature
+/// difference ΔT = T_wall − T_fluid relaxes as dΔT/dt = F − q (1/C_wall + 1/C_fluid), q = ua ΔT,
+/// F = `forcing_k_s` the rate at which the wall warms on its own (heat leak / wall heat
+/// capacity, K/s); a thin cryogenic wall relaxes in milliseconds. q = ua (a ΔT + w dt F) with
+/// ([`stiff_blend`]) z = dt ua (1/C_wall + 1/C_fluid): ua ΔT to O(z⁶) where the step resolves
+/// the exchange, implicit Euler's ua (ΔT + dt F)/(1 + z) where it does not; with F included the
+/// quasi-steady q is the physical one at any step.
 pub fn wall_exchange<T: Real>(
     ua: T,
     dt: T,
@@ -86,7 +122,9 @@ pub fn wall_exchange<T: Real>(
     dtemp_k: T,
     forcing_k_s: T,
 ) -> T {
-    limited_conductance(ua, dt, c_wall, c_fluid) * (dtemp_k + dt * forcing_k_s)
+    let z = dt * ua * (c_wall.rdiv(1.0) + c_fluid.rdiv(1.0));
+    let (a, w) = stiff_blend(z);
+    ua * (a * dtemp_k + w * dt * forcing_k_s)
 }
 
 /// Schrage kinetic-theory interfacial coefficient K = A · 2σ/(2−σ) · sqrt(M / (2π R_u T)),
@@ -110,4 +148,39 @@ pub fn orifice_flow<T: Real>(area_m2: T, p_up: T, p_down: T, t_k: T, r: T, gamma
         .sqrt();
     let closed = p_up.le(p_down) | p_up.le(c(0.0));
     T::select(closed, c(0.0), area_m2 * p_up * flux)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The blend's properties (docs/INTEGRATION.md): 1 − a = z w at any z (the quasi-steady rate
+    /// F/J whatever the step), the explicit rate to O(z⁶) for a resolved mode, implicit Euler's
+    /// 1/z for a stiff one, h λ_eff = z a < 1 (stable explicit stages; ≤ 1 after rounding),
+    /// continuous across the switch to the 1/z evaluation at z = 1, no overflow at z = 1e12.
+    #[test]
+    fn stiff_blend_limits() {
+        for &z in &[
+            0.0, 1e-3, 0.1, 0.5, 0.999_999, 1.0, 1.000_001, 2.0, 10.0, 1e3, 1e6, 1e12,
+        ] {
+            let (a, w) = stiff_blend(z);
+            assert!(
+                ((1.0 - a) - z * w).abs() <= 1e-15 * (1.0 + z * w),
+                "z {z}: {a} {w}"
+            );
+            assert!(z * a <= 1.0 && a > 0.0 && w >= 0.0, "z {z}: {a} {w}");
+        }
+        let (a, w) = stiff_blend(1e-2);
+        // z = 0.01: 1 − a = z⁶/S₆(z) and w = z⁵/S₆(z), S₆ = 1.0101….
+        assert!(((1.0 - a) / 1e-12 * 1.0101 - 1.0).abs() < 1e-3, "{a}");
+        assert!((w / 1e-10 * 1.0101 - 1.0).abs() < 1e-4, "{w}");
+        let (a, w) = stiff_blend(1e4);
+        assert!(
+            (a * 1e4 - 1.0).abs() < 1e-12 && (w * 1e4 - 1.0).abs() < 2e-4,
+            "{a} {w}"
+        );
+        let (lo, hi) = (stiff_blend(1.0 - 1e-12), stiff_blend(1.0 + 1e-12));
+        assert!((lo.0 - hi.0).abs() < 1e-11 && (lo.1 - hi.1).abs() < 1e-11);
+        assert_eq!(stiff_blend(1.0), (6.0 / 7.0, 1.0 / 7.0));
+    }
 }
