@@ -9,6 +9,7 @@ use cryoslosh::engine::{Backend, CpuEngine};
 use cryoslosh::gpu::context::{self, GpuError};
 use cryoslosh::gpu::engine::GpuEngine;
 use cryoslosh::montecarlo::{self, RunError, RunOptions, Shard};
+use cryoslosh::report::{self, ReportError, ReportOptions};
 use cryoslosh::simulate::{self, History};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -139,6 +140,17 @@ enum Command {
     },
     /// List the GPU adapters the WGSL backend can use (name, backend, type, limits).
     Devices,
+    /// Write an HTML report with SVG plots of a results directory (a run or a merge).
+    Report {
+        /// Results directory (instances.parquet, statistics.parquet, run.json).
+        dir: PathBuf,
+        /// Report directory (default: DIR/report); a previous report there is replaced.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Skip re-simulating the worst instance of each headline QoI.
+        #[arg(long)]
+        no_worst_cases: bool,
+    },
     /// Join shard directories of one campaign into DIR, equal to the unsharded run.
     Merge {
         /// Shard output directories.
@@ -163,7 +175,9 @@ fn main() -> ExitCode {
             let bad_input = e.downcast_ref::<CampaignError>().is_some()
                 || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<RunError>()
-                    .is_some_and(RunError::is_bad_input);
+                    .is_some_and(RunError::is_bad_input)
+                || e.downcast_ref::<ReportError>()
+                    .is_some_and(ReportError::is_bad_input);
             if bad_input {
                 ExitCode::from(2)
             } else if e.downcast_ref::<Untrusted>().is_some() {
@@ -402,6 +416,27 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Devices => {
             out!("{}", context::describe_adapters(&context::adapters()));
+            Ok(())
+        }
+        Command::Report {
+            dir,
+            out,
+            no_worst_cases,
+        } => {
+            let start = std::time::Instant::now();
+            let opts = ReportOptions {
+                out,
+                worst_cases: !no_worst_cases,
+                progress: true,
+            };
+            let r = report::report(&dir, &opts)?;
+            outln!(
+                "wrote {}/index.html: {} plots, {} worst cases re-simulated, in {:.2} s",
+                r.out.display(),
+                r.plots,
+                r.replays,
+                start.elapsed().as_secs_f64()
+            );
             Ok(())
         }
         Command::Merge { dirs, out, force } => {
