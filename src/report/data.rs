@@ -93,12 +93,8 @@ pub fn run_info(dir: &Path) -> Result<RunInfo, ReportError> {
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok())
         .unwrap_or(serde_json::Value::Null);
-    let text = |key: &str, fallback: String| {
-        json[key]
-            .as_str()
-            .map(str::to_string)
-            .unwrap_or(fallback)
-    };
+    let text =
+        |key: &str, fallback: String| json[key].as_str().map(str::to_string).unwrap_or(fallback);
     let rows = parquet_rows(&path)?;
     let depleted = if columns.iter().any(|(c, _)| c == "depleted") {
         Some(count_true(&path, "depleted")?)
@@ -127,7 +123,8 @@ pub fn run_info(dir: &Path) -> Result<RunInfo, ReportError> {
 /// Rows of a Parquet file, from its footer.
 fn parquet_rows(path: &Path) -> Result<u64, ReportError> {
     let file = std::fs::File::open(path).map_err(|e| ReportError::read(path, e))?;
-    let b = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| ReportError::read(path, e))?;
+    let b =
+        ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| ReportError::read(path, e))?;
     Ok(b.metadata().file_metadata().num_rows().max(0) as u64)
 }
 
@@ -175,7 +172,9 @@ pub fn statistics(dir: &Path) -> Result<Vec<StatRow>, ReportError> {
                 .as_any()
                 .downcast_ref::<StringArray>()
                 .cloned()
-                .ok_or_else(|| ReportError::Input(format!("{}: {name} is not text", path.display())))
+                .ok_or_else(|| {
+                    ReportError::Input(format!("{}: {name} is not text", path.display()))
+                })
         };
         let floats = |name: &str| -> Result<Vec<f64>, ReportError> {
             let a = col(name)?;
@@ -184,11 +183,20 @@ pub fn statistics(dir: &Path) -> Result<Vec<StatRow>, ReportError> {
             })?;
             Ok(a.iter().map(|v| v.unwrap_or(f64::NAN)).collect())
         };
-        let (quantity, statistic, input) =
-            (strings("quantity")?, strings("statistic")?, strings("input")?);
-        let [threshold, probability, confidence, value, lo, hi] =
-            ["threshold", "probability", "confidence", "value", "ci_low", "ci_high"]
-                .map(floats);
+        let (quantity, statistic, input) = (
+            strings("quantity")?,
+            strings("statistic")?,
+            strings("input")?,
+        );
+        let [threshold, probability, confidence, value, lo, hi] = [
+            "threshold",
+            "probability",
+            "confidence",
+            "value",
+            "ci_low",
+            "ci_high",
+        ]
+        .map(floats);
         let (threshold, probability, confidence, value, lo, hi) =
             (threshold?, probability?, confidence?, value?, lo?, hi?);
         let n = col("n")?;

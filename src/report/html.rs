@@ -209,7 +209,11 @@ fn sensitivities(h: &mut String, p: &Page) {
         h.push_str("<p>No sensitivities in <code>statistics.parquet</code> (no dispersed input, or no QoI with a spread).</p>\n");
     }
     for s in p.sensitivities {
-        let _ = writeln!(h, "<h3><code>{}</code></h3>\n<div class=\"plots\">", escape(&s.qoi));
+        let _ = writeln!(
+            h,
+            "<h3><code>{}</code></h3>\n<div class=\"plots\">",
+            escape(&s.qoi)
+        );
         if let Some(f) = &s.spearman {
             img(h, f, &format!("Spearman tornado of {}", s.qoi));
         }
@@ -274,7 +278,11 @@ fn worst(h: &mut String, p: &Page) {
             num(w.value),
             escape(unit_of(&w.qoi))
         );
-        img(h, &w.file, &format!("time history of instance {}", w.instance));
+        img(
+            h,
+            &w.file,
+            &format!("time history of instance {}", w.instance),
+        );
     }
 }
 

@@ -156,7 +156,13 @@ pub fn report(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary, ReportE
         let markers = thresholds(&stats, &q);
         let stem = file_stem(&q);
         let (hist, exc) = (format!("hist_{stem}.svg"), format!("exceed_{stem}.svg"));
-        plots::histogram(&at.join(&hist), &q, &data::histogram(&sorted), sorted.len(), &markers)?;
+        plots::histogram(
+            &at.join(&hist),
+            &q,
+            &data::histogram(&sorted),
+            sorted.len(),
+            &markers,
+        )?;
         let curve = data::exceedance(&sorted, confidence);
         plots::exceedance(&at.join(&exc), &q, &curve, confidence, &markers)?;
         plots += 2;
@@ -190,7 +196,12 @@ pub fn report(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary, ReportE
     }
     let probabilities: Vec<StatRow> = stats
         .iter()
-        .filter(|r| matches!(r.statistic.as_str(), "prob_exceed" | "prob_below" | "fraction"))
+        .filter(|r| {
+            matches!(
+                r.statistic.as_str(),
+                "prob_exceed" | "prob_below" | "fraction"
+            )
+        })
         .cloned()
         .collect();
     let (worst, worst_notes) = if opts.worst_cases {
@@ -201,7 +212,10 @@ pub fn report(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary, ReportE
             .collect();
         worst::worst_cases(&info, &headline, &at, opts.progress)?
     } else {
-        (Vec::new(), vec!["worst cases not re-simulated (--no-worst-cases)".into()])
+        (
+            Vec::new(),
+            vec!["worst cases not re-simulated (--no-worst-cases)".into()],
+        )
     };
     plots += worst.len();
     let page = html::Page {
@@ -244,7 +258,11 @@ fn thresholds(stats: &[StatRow], q: &str) -> Vec<Marker> {
         .filter(|r| matches!(r.statistic.as_str(), "prob_exceed" | "prob_below"))
         .enumerate()
         .map(|(i, r)| {
-            let side = if r.statistic == "prob_exceed" { ">" } else { "<" };
+            let side = if r.statistic == "prob_exceed" {
+                ">"
+            } else {
+                "<"
+            };
             Marker {
                 x: r.threshold,
                 label: format!(
@@ -278,7 +296,12 @@ fn sensitivity_qois(stats: &[StatRow], varying: &[String]) -> Vec<String> {
             qs.push(r.quantity.clone());
         }
     }
-    qs.sort_by_key(|q| HEADLINE.iter().position(|h| h == q).unwrap_or(HEADLINE.len()));
+    qs.sort_by_key(|q| {
+        HEADLINE
+            .iter()
+            .position(|h| h == q)
+            .unwrap_or(HEADLINE.len())
+    });
     qs
 }
 
@@ -337,7 +360,11 @@ fn sensitivity(
             .collect();
         if pairs.len() >= 2 {
             let file = format!("scatter_{stem}.svg");
-            let note = format!("{} instances, Spearman ρ = {:+.2}", pairs.len(), rho[0].value);
+            let note = format!(
+                "{} instances, Spearman ρ = {:+.2}",
+                pairs.len(),
+                rho[0].value
+            );
             plots::scatter(&at.join(&file), top, q, &pairs, &note, rho[0].value >= 0.0)?;
             section.scatter = Some((file, top.clone()));
         }
@@ -349,14 +376,18 @@ fn sensitivity(
             total
                 .iter()
                 .find(|r| r.input.as_deref() == Some(name))
-                .map_or((f64::NAN, f64::NAN, f64::NAN), |r| (r.value, r.ci_low, r.ci_high))
+                .map_or((f64::NAN, f64::NAN, f64::NAN), |r| {
+                    (r.value, r.ci_low, r.ci_high)
+                })
         };
         names.sort_by(|a, b| total_of(b).0.total_cmp(&total_of(a).0));
         let first_of = |name: &str| {
             first
                 .iter()
                 .find(|r| r.input.as_deref() == Some(name))
-                .map_or((f64::NAN, f64::NAN, f64::NAN), |r| (r.value, r.ci_low, r.ci_high))
+                .map_or((f64::NAN, f64::NAN, f64::NAN), |r| {
+                    (r.value, r.ci_low, r.ci_high)
+                })
         };
         let series = [
             BarSeries {
@@ -371,12 +402,22 @@ fn sensitivity(
             },
         ];
         let all = series.iter().flat_map(|s| s.values.iter());
-        let lo = all.clone().map(|v| v.1.min(v.0)).filter(|v| v.is_finite()).fold(0.0, f64::min);
-        let hi = all.map(|v| v.2.max(v.0)).filter(|v| v.is_finite()).fold(1.0, f64::max);
+        let lo = all
+            .clone()
+            .map(|v| v.1.min(v.0))
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::min);
+        let hi = all
+            .map(|v| v.2.max(v.0))
+            .filter(|v| v.is_finite())
+            .fold(1.0, f64::max);
         let file = format!("sobol_{stem}.svg");
         plots::tornado(
             &at.join(&file),
-            &format!("{q}: Sobol indices, bootstrap intervals (n = {} groups)", first[0].n),
+            &format!(
+                "{q}: Sobol indices, bootstrap intervals (n = {} groups)",
+                first[0].n
+            ),
             "Sobol index (1)",
             &names,
             &series,

@@ -50,7 +50,11 @@ pub fn plot_err<E: std::fmt::Display>(path: &Path) -> impl Fn(E) -> ReportError 
 pub fn fmt_tick(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 || !v.is_finite() {
-        return if v.is_finite() { "0".into() } else { v.to_string() };
+        return if v.is_finite() {
+            "0".into()
+        } else {
+            v.to_string()
+        };
     }
     if !(1e-3..1e7).contains(&a) {
         let s = format!("{v:.3e}");
@@ -114,7 +118,10 @@ pub fn histogram(
     let (xr, shown) = x_span(h.lo, hi, markers);
     let top = h.counts.iter().copied().max().unwrap_or(1) as f64 * 1.15;
     let mut chart = ChartBuilder::on(&root)
-        .caption(format!("{column}: histogram of {n} valid instances"), font(17.0))
+        .caption(
+            format!("{column}: histogram of {n} valid instances"),
+            font(17.0),
+        )
         .margin(14)
         .x_label_area_size(58)
         .y_label_area_size(78)
@@ -160,14 +167,21 @@ type Chart<'a, 'b> = ChartContext<
 /// Vertical marker lines from `y0` to `y1` with a legend (upper right) naming them.
 fn draw_markers<'a, 'b: 'a, F>(
     chart: &mut Chart<'a, 'b>,
-    markers: &[Marker], y0: f64, y1: f64, e: &F) -> Result<(), ReportError>
+    markers: &[Marker],
+    y0: f64,
+    y1: f64,
+    e: &F,
+) -> Result<(), ReportError>
 where
     F: Fn(DrawingAreaErrorKind<std::io::Error>) -> ReportError,
 {
     for m in markers {
         let c = m.colour;
         chart
-            .draw_series(LineSeries::new(vec![(m.x, y0), (m.x, y1)], c.stroke_width(3)))
+            .draw_series(LineSeries::new(
+                vec![(m.x, y0), (m.x, y1)],
+                c.stroke_width(3),
+            ))
             .map_err(e)?
             .label(m.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], c.stroke_width(3)));
@@ -203,10 +217,7 @@ pub fn exceedance(
     // The smallest plotted probability is 1/n; a decade below leaves room for the band.
     let ymin = 10f64.powf((0.5 / n.max(1.0)).log10().floor());
     let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("{column}: exceedance, n = {n}"),
-            font(17.0),
-        )
+        .caption(format!("{column}: exceedance, n = {n}"), font(17.0))
         .margin(14)
         .x_label_area_size(58)
         .y_label_area_size(78)
@@ -240,7 +251,10 @@ pub fn exceedance(
     polygon.extend(band);
     let pct = format!("{:.0} %", level * 100.0);
     chart
-        .draw_series(std::iter::once(Polygon::new(polygon, SKY.mix(0.45).filled())))
+        .draw_series(std::iter::once(Polygon::new(
+            polygon,
+            SKY.mix(0.45).filled(),
+        )))
         .map_err(&e)?
         .label(format!("{pct} pointwise Clopper–Pearson band"))
         .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 22, y + 6)], SKY.mix(0.45).filled()));
@@ -252,7 +266,10 @@ pub fn exceedance(
     for m in &shown {
         let c = m.colour;
         chart
-            .draw_series(LineSeries::new(vec![(m.x, ymin), (m.x, 1.0)], c.stroke_width(3)))
+            .draw_series(LineSeries::new(
+                vec![(m.x, ymin), (m.x, 1.0)],
+                c.stroke_width(3),
+            ))
             .map_err(&e)?
             .label(m.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], c.stroke_width(3)));
@@ -292,7 +309,8 @@ pub fn tornado(
     let height = 150 + 26 * k as u32 * series.len().max(1) as u32 + 10 * k as u32;
     let longest = rows.iter().map(|r| r.chars().count()).max().unwrap_or(4);
     let left = (longest as f64 * 8.2 + 24.0).max(80.0) as u32;
-    let root = SVGBackend::new(path, (SIZE.0 + left.saturating_sub(80), height)).into_drawing_area();
+    let root =
+        SVGBackend::new(path, (SIZE.0 + left.saturating_sub(80), height)).into_drawing_area();
     root.fill(&WHITE).map_err(&e)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, font(17.0))
@@ -392,7 +410,9 @@ pub fn scatter(
         pairs
             .iter()
             .map(f)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            })
     };
     let (x0, x1) = bounds(|p| p.0);
     let (y0, y1) = bounds(|p| p.1);

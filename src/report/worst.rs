@@ -78,7 +78,9 @@ pub fn worst_cases(
                 message: e.to_string(),
             })?;
         if record.rejected || h.is_empty() {
-            notes.push(format!("{q}: instance {i} was rejected; no history to draw"));
+            notes.push(format!(
+                "{q}: instance {i} was rejected; no history to draw"
+            ));
             continue;
         }
         let plan = Plan {
@@ -241,7 +243,9 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
             .iter()
             .map(|&(name, c)| (name, c, segments(t, col(name))))
             .collect();
-        let ys = series.iter().flat_map(|s| s.2.iter().flatten().map(|p| p.1));
+        let ys = series
+            .iter()
+            .flat_map(|s| s.2.iter().flatten().map(|p| p.1));
         let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
@@ -292,9 +296,11 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
             legend.push(("relief valve open".into(), OPEN_VALVE, true));
         }
         chart
-            .draw_series(phases.iter().skip(1).map(|&(tb, _)| {
-                PathElement::new(vec![(tb, y0), (tb, y1)], GREY.stroke_width(1))
-            }))
+            .draw_series(
+                phases.iter().skip(1).map(|&(tb, _)| {
+                    PathElement::new(vec![(tb, y0), (tb, y1)], GREY.stroke_width(1))
+                }),
+            )
             .map_err(&e)?;
         for (name, c, segs) in &series {
             for s in segs {
@@ -327,7 +333,10 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
         if no_data {
             area.draw(&Text::new(
                 "no value in this instance (the engine never drew)",
-                ((xr.start + xr.end) / 2 - area.get_base_pixel().0, (yr.start + yr.end) / 2 - area.get_base_pixel().1),
+                (
+                    (xr.start + xr.end) / 2 - area.get_base_pixel().0,
+                    (yr.start + yr.end) / 2 - area.get_base_pixel().1,
+                ),
                 font(15.0).pos(Pos::new(HPos::Center, VPos::Center)),
             ))
             .map_err(&e)?;
@@ -340,8 +349,11 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
                 area.draw(&Rectangle::new([(x, y - 6), (x + 22, y + 6)], c.filled()))
                     .map_err(&e)?;
             } else {
-                area.draw(&PathElement::new(vec![(x, y), (x + 22, y)], c.stroke_width(3)))
-                    .map_err(&e)?;
+                area.draw(&PathElement::new(
+                    vec![(x, y), (x + 22, y)],
+                    c.stroke_width(3),
+                ))
+                .map_err(&e)?;
             }
             area.draw(&Text::new(
                 text.clone(),
@@ -352,16 +364,19 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
         }
         // Phase names along the top of the first panel, skipped where they would collide.
         if k == 0 {
-            let mut last = i32::MIN;
+            // Up to three rows of names, so a short phase's name moves down instead of
+            // overlapping its neighbour's.
+            let mut rows: [Option<i32>; 3] = [None; 3];
             for (tb, name) in &phases {
                 let (px, _) = chart.backend_coord(&(*tb, y1));
-                if px - last < 90 {
+                let width = 14 + 7 * name.chars().count() as i32;
+                let Some(row) = rows.iter().position(|l| l.is_none_or(|l| px >= l)) else {
                     continue;
-                }
-                last = px;
+                };
+                rows[row] = Some(px + width);
                 area.draw(&Text::new(
                     format!("▸ {name}"),
-                    (px - base.0 + 2, yr.start - base.1 + 2),
+                    (px - base.0 + 2, yr.start - base.1 + 2 + 15 * row as i32),
                     font(12.0).color(&GREY).pos(Pos::new(HPos::Left, VPos::Top)),
                 ))
                 .map_err(&e)?;
@@ -379,7 +394,18 @@ mod tests {
     #[test]
     fn segments_break_at_nulls_and_keep_peaks() {
         let t: Vec<f64> = (0..10).map(f64::from).collect();
-        let y = [1.0, 2.0, f64::NAN, f64::NAN, 5.0, 6.0, 7.0, f64::NAN, 9.0, 10.0];
+        let y = [
+            1.0,
+            2.0,
+            f64::NAN,
+            f64::NAN,
+            5.0,
+            6.0,
+            7.0,
+            f64::NAN,
+            9.0,
+            10.0,
+        ];
         let s = segments(&t, &y);
         assert_eq!(s.len(), 3);
         assert_eq!(s[1], vec![(4.0, 5.0), (5.0, 6.0), (6.0, 7.0)]);

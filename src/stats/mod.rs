@@ -29,5 +29,6 @@ pub use sensitivity::{
     SobolIndices, SobolOptions,
 };
 pub use summary::{
-    clopper_pearson, describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES};
+    clopper_pearson, describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES,
+};
 pub use tolerance::{tolerance_bound, wilks_min_samples, Side, Tolerance};
