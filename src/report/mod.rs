@@ -146,10 +146,13 @@ pub fn report(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary, ReportE
             continue;
         }
         if crate::stats::is_constant(&sorted) {
+            let unit = match data::unit_of(&q) {
+                "1" => String::new(),
+                u => format!(" {u}"),
+            };
             skipped.push(format!(
-                "{q}: constant at {} {}",
-                plots::fmt_tick(sorted[0]),
-                data::unit_of(&q)
+                "{q}: constant at {}{unit}",
+                plots::fmt_tick(sorted[0])
             ));
             continue;
         }

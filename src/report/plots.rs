@@ -20,6 +20,8 @@ pub const GREEN: RGBColor = RGBColor(0, 158, 115);
 pub const VERMILLION: RGBColor = RGBColor(213, 94, 0);
 pub const PURPLE: RGBColor = RGBColor(204, 121, 167);
 pub const GREY: RGBColor = RGBColor(110, 110, 110);
+/// The sky blue of the confidence bands, lightened (the plots stay opaque for any viewer).
+pub const BAND: RGBColor = RGBColor(179, 218, 242);
 
 /// Colours of successive threshold lines.
 pub const MARKER_COLOURS: [RGBColor; 4] = [VERMILLION, PURPLE, GREEN, ORANGE];
@@ -112,10 +114,17 @@ pub fn histogram(
     markers: &[Marker],
 ) -> Result<(), ReportError> {
     let e = plot_err(path);
-    let root = SVGBackend::new(path, SIZE).into_drawing_area();
-    root.fill(&WHITE).map_err(&e)?;
     let hi = h.lo + h.width * h.counts.len() as f64;
     let (xr, shown) = x_span(h.lo, hi, markers);
+    let keys = marker_keys(&shown);
+    let legend_h = if keys.is_empty() {
+        0
+    } else {
+        10 + KEY_ROW * keys.len() as u32
+    };
+    let canvas = SVGBackend::new(path, (SIZE.0, SIZE.1 + legend_h)).into_drawing_area();
+    canvas.fill(&WHITE).map_err(&e)?;
+    let (root, below) = canvas.split_vertically(SIZE.1);
     let top = h.counts.iter().copied().max().unwrap_or(1) as f64 * 1.15;
     let mut chart = ChartBuilder::on(&root)
         .caption(
@@ -154,7 +163,8 @@ pub fn histogram(
         }))
         .map_err(&e)?;
     draw_markers(&mut chart, &shown, 0.0, top, &e)?;
-    root.present().map_err(&e)?;
+    draw_keys(&below, (90, 12), &keys, &e)?;
+    canvas.present().map_err(&e)?;
     Ok(())
 }
 
@@ -164,7 +174,7 @@ type Chart<'a, 'b> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-/// Vertical marker lines from `y0` to `y1` with a legend (upper right) naming them.
+/// Vertical marker lines from `y0` to `y1`.
 fn draw_markers<'a, 'b: 'a, F>(
     chart: &mut Chart<'a, 'b>,
     markers: &[Marker],
@@ -176,27 +186,72 @@ where
     F: Fn(DrawingAreaErrorKind<std::io::Error>) -> ReportError,
 {
     for m in markers {
-        let c = m.colour;
         chart
             .draw_series(LineSeries::new(
                 vec![(m.x, y0), (m.x, y1)],
-                c.stroke_width(3),
+                m.colour.stroke_width(3),
             ))
-            .map_err(e)?
-            .label(m.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], c.stroke_width(3)));
-    }
-    if !markers.is_empty() {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK.mix(0.4))
-            .label_font(font(13.0))
-            .draw()
             .map_err(e)?;
     }
     Ok(())
+}
+
+/// One legend entry: a swatch (a filled block or a line) and its text.
+pub struct Key {
+    pub text: String,
+    pub colour: RGBColor,
+    pub block: bool,
+}
+
+/// Height of one legend row, px.
+pub const KEY_ROW: u32 = 22;
+
+/// Draw legend rows from (x, y) down in `area`'s pixel coordinates: outside the data, so
+/// a legend never hides a curve.
+pub fn draw_keys<F>(
+    area: &DrawingArea<SVGBackend, Shift>,
+    (x, y): (i32, i32),
+    keys: &[Key],
+    e: &F,
+) -> Result<(), ReportError>
+where
+    F: Fn(DrawingAreaErrorKind<std::io::Error>) -> ReportError,
+{
+    for (j, k) in keys.iter().enumerate() {
+        let y = y + KEY_ROW as i32 * j as i32;
+        if k.block {
+            area.draw(&Rectangle::new(
+                [(x, y - 6), (x + 22, y + 6)],
+                k.colour.filled(),
+            ))
+            .map_err(e)?;
+        } else {
+            area.draw(&PathElement::new(
+                vec![(x, y), (x + 22, y)],
+                k.colour.stroke_width(3),
+            ))
+            .map_err(e)?;
+        }
+        area.draw(&Text::new(
+            k.text.clone(),
+            (x + 28, y),
+            font(13.0).pos(Pos::new(HPos::Left, VPos::Center)),
+        ))
+        .map_err(e)?;
+    }
+    Ok(())
+}
+
+/// Legend entries of threshold markers.
+fn marker_keys(markers: &[Marker]) -> Vec<Key> {
+    markers
+        .iter()
+        .map(|m| Key {
+            text: m.label.clone(),
+            colour: m.colour,
+            block: false,
+        })
+        .collect()
 }
 
 /// The empirical exceedance curve P(X ≥ x) on a log axis with its pointwise band.
@@ -208,14 +263,31 @@ pub fn exceedance(
     markers: &[Marker],
 ) -> Result<(), ReportError> {
     let e = plot_err(path);
-    let root = SVGBackend::new(path, SIZE).into_drawing_area();
-    root.fill(&WHITE).map_err(&e)?;
     // The last point is the largest value, reached by one instance in n.
     let n = points.last().map_or(1.0, |p| 1.0 / p.p.max(1e-300)).round();
     let (lo, hi) = (points[0].x, points[points.len() - 1].x);
     let (xr, shown) = x_span(lo, hi, markers);
-    // The smallest plotted probability is 1/n; a decade below leaves room for the band.
-    let ymin = 10f64.powf((0.5 / n.max(1.0)).log10().floor());
+    let pct = format!("{:.0} %", level * 100.0);
+    let mut keys = vec![
+        Key {
+            text: "fraction of instances at or above x".into(),
+            colour: BLUE,
+            block: false,
+        },
+        Key {
+            text: format!("{pct} pointwise Clopper–Pearson band"),
+            colour: BAND,
+            block: true,
+        },
+    ];
+    keys.extend(marker_keys(&shown));
+    let legend_h = 10 + KEY_ROW * keys.len() as u32;
+    let canvas = SVGBackend::new(path, (SIZE.0, SIZE.1 + legend_h)).into_drawing_area();
+    canvas.fill(&WHITE).map_err(&e)?;
+    let (root, below) = canvas.split_vertically(SIZE.1);
+    // The smallest plotted probability is 1/n; the decade below (and a little more, so that
+    // its tick is labelled) leaves room for the band.
+    let ymin = 0.8 * 10f64.powf((0.5 / n.max(1.0)).log10().floor());
     let mut chart = ChartBuilder::on(&root)
         .caption(format!("{column}: exceedance, n = {n}"), font(17.0))
         .margin(14)
@@ -249,40 +321,22 @@ pub fn exceedance(
     band.reverse();
     let mut polygon = upper;
     polygon.extend(band);
-    let pct = format!("{:.0} %", level * 100.0);
     chart
-        .draw_series(std::iter::once(Polygon::new(
-            polygon,
-            SKY.mix(0.45).filled(),
-        )))
-        .map_err(&e)?
-        .label(format!("{pct} pointwise Clopper–Pearson band"))
-        .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 22, y + 6)], SKY.mix(0.45).filled()));
+        .draw_series(std::iter::once(Polygon::new(polygon, BAND.filled())))
+        .map_err(&e)?;
     chart
         .draw_series(LineSeries::new(step(&|p| p.p), BLUE.stroke_width(2)))
-        .map_err(&e)?
-        .label("fraction of instances at or above x")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], BLUE.stroke_width(2)));
+        .map_err(&e)?;
     for m in &shown {
-        let c = m.colour;
         chart
             .draw_series(LineSeries::new(
                 vec![(m.x, ymin), (m.x, 1.0)],
-                c.stroke_width(3),
+                m.colour.stroke_width(3),
             ))
-            .map_err(&e)?
-            .label(m.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], c.stroke_width(3)));
+            .map_err(&e)?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerLeft)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.4))
-        .label_font(font(13.0))
-        .draw()
-        .map_err(&e)?;
-    root.present().map_err(&e)?;
+    draw_keys(&below, (90, 12), &keys, &e)?;
+    canvas.present().map_err(&e)?;
     Ok(())
 }
 

@@ -5,7 +5,7 @@
 
 use super::data::{label, unit_of, RunInfo};
 use super::plots::{
-    fmt_tick, font, padded, plot_err, BLUE, GREEN, GREY, ORANGE, PURPLE, VERMILLION,
+    draw_keys, fmt_tick, font, padded, plot_err, Key, BLUE, GREEN, GREY, ORANGE, PURPLE, VERMILLION,
 };
 use super::ReportError;
 use crate::montecarlo::histories::worst_is_smallest;
@@ -264,12 +264,18 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
             .collect();
         let lo2 = hlines.iter().map(|l| l.1).fold(lo, f64::min);
         let hi2 = hlines.iter().map(|l| l.1).fold(hi, f64::max);
+        // Room above the data of the first panel for the phase names.
+        let headroom = if k == 0 {
+            0.22 * (hi2 - lo2).max(span)
+        } else {
+            0.0
+        };
         let mut chart = ChartBuilder::on(area)
             .margin(8)
             .margin_right(260)
             .x_label_area_size(if k + 1 == panels.len() { 50 } else { 26 })
             .y_label_area_size(88)
-            .build_cartesian_2d(t_range.clone(), padded(lo2, hi2))
+            .build_cartesian_2d(t_range.clone(), padded(lo2, hi2 + headroom))
             .map_err(&e)?;
         let mut mesh = chart.configure_mesh();
         mesh.y_desc(panel.y_desc.as_str())
@@ -343,26 +349,21 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
         }
         // Legend in the right margin, outside the data.
         let base = area.get_base_pixel();
-        for (j, (text, c, block)) in legend.iter().enumerate() {
-            let (x, y) = (xr.end - base.0 + 14, yr.start - base.1 + 10 + 22 * j as i32);
-            if *block {
-                area.draw(&Rectangle::new([(x, y - 6), (x + 22, y + 6)], c.filled()))
-                    .map_err(&e)?;
-            } else {
-                area.draw(&PathElement::new(
-                    vec![(x, y), (x + 22, y)],
-                    c.stroke_width(3),
-                ))
-                .map_err(&e)?;
-            }
-            area.draw(&Text::new(
-                text.clone(),
-                (x + 28, y),
-                font(13.0).pos(Pos::new(HPos::Left, VPos::Center)),
-            ))
-            .map_err(&e)?;
-        }
-        // Phase names along the top of the first panel, skipped where they would collide.
+        let keys: Vec<Key> = legend
+            .into_iter()
+            .map(|(text, colour, block)| Key {
+                text,
+                colour,
+                block,
+            })
+            .collect();
+        draw_keys(
+            area,
+            (xr.end - base.0 + 14, yr.start - base.1 + 10),
+            &keys,
+            &e,
+        )?;
+        // Phase names along the top of the first panel.
         if k == 0 {
             // Up to three rows of names, so a short phase's name moves down instead of
             // overlapping its neighbour's.
