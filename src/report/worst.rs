@@ -168,6 +168,24 @@ fn segments(t: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
         .collect()
 }
 
+/// Time intervals in which the relief valve was open: rows flagged `valve_open`, and output
+/// intervals over which `vented_kg` grew (an opening shorter than one output interval falls
+/// between two rows and shows only there).
+fn valve_intervals(t: &[f64], valve_open: &[bool], vented_kg: &[f64]) -> Vec<(f64, f64)> {
+    let mut open: Vec<(f64, f64)> = Vec::new();
+    for r in 0..t.len() {
+        let vented = r > 0 && vented_kg.get(r) > vented_kg.get(r - 1);
+        let start = if vented { t[r - 1] } else { t[r] };
+        if valve_open[r] || vented {
+            match open.last_mut() {
+                Some(last) if last.1 >= start => last.1 = t[r],
+                _ => open.push((start, t[r])),
+            }
+        }
+    }
+    open
+}
+
 /// Draw the stacked panels of one instance's history into `path`.
 fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Result<(), ReportError> {
     let e = plot_err(path);
@@ -221,16 +239,7 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
             phases.push((t[r - 1], h.phase[r].clone()));
         }
     }
-    // Relief valve open intervals.
-    let mut open: Vec<(f64, f64)> = Vec::new();
-    for r in 0..h.len() {
-        if h.valve_open[r] {
-            match open.last_mut() {
-                Some(last) if r > 0 && h.valve_open[r - 1] => last.1 = t[r],
-                _ => open.push((t[r], t[r])),
-            }
-        }
-    }
+    let open = valve_intervals(t, &h.valve_open, col("vented_kg"));
     let (w, ph) = (1060u32, 250u32);
     let root = SVGBackend::new(path, (w, 50 + ph * panels.len() as u32)).into_drawing_area();
     root.fill(&WHITE).map_err(&e)?;
@@ -295,11 +304,24 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
         let mut legend: Vec<(String, RGBColor, bool)> = Vec::new();
         chart
             .draw_series(open.iter().map(|&(a, b)| {
-                Rectangle::new([(a, y0), (b.max(a + 1e-9), y1)], OPEN_VALVE.filled())
+                // At least 0.4 % of the mission wide: an opening shorter than one output
+                // interval still shows.
+                let min = 0.004 * (t_range.end - t_range.start);
+                let (a, b) = if b - a < min {
+                    (a - 0.5 * min, a + 0.5 * min)
+                } else {
+                    (a, b)
+                };
+                Rectangle::new([(a, y0), (b, y1)], OPEN_VALVE.filled())
             }))
             .map_err(&e)?;
-        if !open.is_empty() {
-            legend.push(("relief valve open".into(), OPEN_VALVE, true));
+        if !open.is_empty() && k == 0 {
+            let n = open.len();
+            let text = format!(
+                "relief valve open ({n} opening{})",
+                if n == 1 { "" } else { "s" }
+            );
+            legend.push((text, OPEN_VALVE, true));
         }
         chart
             .draw_series(
@@ -391,6 +413,19 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn valve_openings_come_from_flags_and_vented_mass() {
+        let t = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0];
+        let flag = [false, true, true, false, false, false];
+        let vented = [0.0, 0.1, 0.2, 0.2, 0.5, 0.5];
+        // Rows 1–2 flagged (and venting from row 0 on); rows 3→4 vented between samples.
+        assert_eq!(
+            valve_intervals(&t, &flag, &vented),
+            vec![(0.0, 20.0), (30.0, 40.0)]
+        );
+        assert!(valve_intervals(&t, &[false; 6], &[0.0; 6]).is_empty());
+    }
 
     #[test]
     fn segments_break_at_nulls_and_keep_peaks() {
