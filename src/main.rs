@@ -128,6 +128,9 @@ enum Command {
         /// blocks; the result equals the uninterrupted run byte for byte.
         #[arg(long)]
         resume: bool,
+        /// After the run, write its HTML report to DIR/report (as `cryoslosh report DIR`).
+        #[arg(long)]
+        report: bool,
     },
     /// Write a commented template campaign to start from (refuses to overwrite without --force).
     Init {
@@ -333,6 +336,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             histories,
             until,
             resume,
+            report: with_report,
         } => {
             let c = Campaign::load(&campaign, &set)?;
             let histories = match histories {
@@ -384,6 +388,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     format!(", time histories in {}/histories", opts.out_dir.display())
                 }
             );
+            if with_report {
+                write_report(&opts.out_dir, None, true)?;
+            }
             check_trust(&report)
         }
         Command::Init { path, force } => {
@@ -422,23 +429,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             dir,
             out,
             no_worst_cases,
-        } => {
-            let start = std::time::Instant::now();
-            let opts = ReportOptions {
-                out,
-                worst_cases: !no_worst_cases,
-                progress: true,
-            };
-            let r = report::report(&dir, &opts)?;
-            outln!(
-                "wrote {}/index.html: {} plots, {} worst cases re-simulated, in {:.2} s",
-                r.out.display(),
-                r.plots,
-                r.replays,
-                start.elapsed().as_secs_f64()
-            );
-            Ok(())
-        }
+        } => write_report(&dir, out, !no_worst_cases),
         Command::Merge { dirs, out, force } => {
             let report = montecarlo::merge(&dirs, &out, force)?;
             out!("{}", montecarlo::summary_text(&report));
@@ -446,6 +437,29 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             check_trust(&report)
         }
     }
+}
+
+/// `report DIR` and `run --report`: write the report and say where it went.
+fn write_report(
+    dir: &std::path::Path,
+    out: Option<PathBuf>,
+    worst_cases: bool,
+) -> anyhow::Result<()> {
+    let start = std::time::Instant::now();
+    let opts = ReportOptions {
+        out,
+        worst_cases,
+        progress: true,
+    };
+    let r = report::report(dir, &opts)?;
+    outln!(
+        "wrote {}/index.html: {} plots, {} worst cases re-simulated, in {:.2} s",
+        r.out.display(),
+        r.plots,
+        r.replays,
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
 
 /// Most worker threads `--threads` accepts (100000 used to spawn ~16000 threads and stall the

@@ -320,7 +320,10 @@ fn bad_input_exits_2_and_writes_nothing() {
         "20",
         "--backend",
         "cpu",
+        "--report",
     ]));
+    // `run --report` wrote the report at the end of the run.
+    check_plots(&run.join("report"));
     let o = cryoslosh(&[
         "report",
         run.to_str().unwrap(),
