@@ -91,7 +91,7 @@ pub fn worst_cases(
         // The instance's own MEOP and crack (they may be dispersed).
         let params = match plan.resolve(*i).1 {
             Ok(Some(c)) => c.params,
-            _ => run.campaign.params.clone(),
+            _ => run.campaign.params,
         };
         let file = format!("worst_{}.svg", super::file_stem(q));
         let title = format!(
@@ -132,9 +132,12 @@ struct Panel<'a> {
     hlines: Vec<(String, f64, RGBColor)>,
 }
 
+/// Runs of (time, value) points of one history column.
+type Segments = Vec<Vec<(f64, f64)>>;
+
 /// Points of a history column against time, split at nulls (NaN) into runs, each thinned to at
 /// most ~2000 points by keeping every bucket's minimum and maximum (so peaks survive).
-fn segments(t: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
+fn segments(t: &[f64], y: &[f64]) -> Segments {
     let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
     let mut run: Vec<(f64, f64)> = Vec::new();
     for (&a, &b) in t.iter().zip(y) {
@@ -247,7 +250,7 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
     let areas = root.split_evenly((panels.len(), 1));
     let t_range = padded(t[0], t[t.len() - 1]);
     for (k, (panel, area)) in panels.iter().zip(&areas).enumerate() {
-        let series: Vec<(&str, RGBColor, Vec<Vec<(f64, f64)>>)> = panel
+        let series: Vec<(&str, RGBColor, Segments)> = panel
             .lines
             .iter()
             .map(|&(name, c)| (name, c, segments(t, col(name))))
