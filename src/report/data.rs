@@ -279,10 +279,12 @@ pub struct ExceedancePoint {
     pub hi: f64,
 }
 
-/// The exceedance curve P(X ≥ x) at the order statistics, every one of the 200 largest and a
-/// geometric selection of the rest (about 600 points whatever n), each with the pointwise
-/// Clopper–Pearson interval at `level` (exact for k of n values at or above x).
-pub fn exceedance(sorted: &[f64], level: f64) -> Vec<ExceedancePoint> {
+/// The exceedance curve P(X ≥ x) at the order statistics — or, for a margin (`lower`), the
+/// non-exceedance P(X ≤ x), whose low tail is the one that matters — at every one of the 200
+/// most extreme values and a geometric selection of the rest (about 600 points whatever n),
+/// each with the pointwise Clopper–Pearson interval at `level` (exact for k of n values at or
+/// beyond x). Points ascend in x.
+pub fn exceedance(sorted: &[f64], level: f64, lower: bool) -> Vec<ExceedancePoint> {
     let n = sorted.len();
     let mut ks: Vec<usize> = (1..=n.min(200)).collect();
     if n > 200 {
@@ -296,18 +298,20 @@ pub fn exceedance(sorted: &[f64], level: f64) -> Vec<ExceedancePoint> {
         ks.push(n);
         ks.dedup();
     }
-    ks.iter()
-        .rev()
-        .map(|&k| {
-            let (lo, hi) = crate::stats::clopper_pearson(k as u64, n as u64, level);
-            ExceedancePoint {
-                x: sorted[n - k],
-                p: k as f64 / n as f64,
-                lo,
-                hi,
-            }
-        })
-        .collect()
+    let point = |k: usize| {
+        let (lo, hi) = crate::stats::clopper_pearson(k as u64, n as u64, level);
+        ExceedancePoint {
+            x: if lower { sorted[k - 1] } else { sorted[n - k] },
+            p: k as f64 / n as f64,
+            lo,
+            hi,
+        }
+    };
+    if lower {
+        ks.iter().map(|&k| point(k)).collect()
+    } else {
+        ks.iter().rev().map(|&k| point(k)).collect()
+    }
 }
 
 /// The SI unit of a column, from the suffix of its name (`peak_pressure_pa` → Pa; a per-phase
@@ -345,4 +349,39 @@ pub fn unit_of(column: &str) -> &'static str {
 /// Axis label of a column: its name and unit, e.g. `peak_pressure_pa (Pa)`.
 pub fn label(column: &str) -> String {
     format!("{column} ({})", unit_of(column))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exceedance_points_count_values_at_or_beyond_x() {
+        let sorted = [1.0, 2.0, 3.0, 4.0];
+        let up = exceedance(&sorted, 0.95, false);
+        let xs: Vec<(f64, f64)> = up.iter().map(|p| (p.x, p.p)).collect();
+        assert_eq!(xs, vec![(1.0, 1.0), (2.0, 0.75), (3.0, 0.5), (4.0, 0.25)]);
+        let down = exceedance(&sorted, 0.95, true);
+        let xs: Vec<(f64, f64)> = down.iter().map(|p| (p.x, p.p)).collect();
+        assert_eq!(xs, vec![(1.0, 0.25), (2.0, 0.5), (3.0, 0.75), (4.0, 1.0)]);
+        // k = n: the interval reaches 1; every point's interval holds its estimate.
+        assert_eq!(up[0].hi, 1.0);
+        assert!(up.iter().all(|p| p.lo <= p.p && p.p <= p.hi));
+        // A large sample keeps about 600 points, the extreme one included.
+        let big: Vec<f64> = (0..1_000_000).map(f64::from).collect();
+        let pts = exceedance(&big, 0.95, false);
+        assert!(pts.len() < 700, "{}", pts.len());
+        assert_eq!(pts.last().map(|p| p.x), Some(999_999.0));
+    }
+
+    #[test]
+    fn units_come_from_the_column_suffix() {
+        assert_eq!(unit_of("peak_pressure_pa"), "Pa");
+        assert_eq!(unit_of("peak_pressure_pa.burn"), "Pa");
+        assert_eq!(unit_of("peak_slosh_moment_n_m"), "N·m");
+        assert_eq!(unit_of("min_cavitation_margin_m"), "m");
+        assert_eq!(unit_of("tank_wall_areal_mass_kg_per_m2"), "kg/m²");
+        assert_eq!(unit_of("slosh_out_of_range_fraction"), "1");
+        assert_eq!(label("boiloff_kg"), "boiloff_kg (kg)");
+    }
 }

@@ -137,8 +137,8 @@ fn qois(h: &mut String, p: &Page) {
         "<h2 id=\"qois\">Quantities of interest</h2>\n<p class=\"note\">Each quantity of \
          <code>instances.parquet</code> with a spread, over its valid instances (diverged and \
          rejected ones are nulls and left out). The exceedance curve is the fraction of instances \
-         at or above x; its band is the pointwise exact Clopper–Pearson {pct} interval of that \
-         fraction. Vertical lines: the thresholds <code>statistics.parquet</code> evaluated \
+         at or above x (at or below x for a <code>min_</code> margin, whose low tail matters); \
+         its band is the pointwise exact Clopper–Pearson {pct} interval of that fraction. Vertical lines: the thresholds <code>statistics.parquet</code> evaluated \
          (MEOP, boil-off budget, zero cavitation margin, <code>[[statistics.thresholds]]</code>). \
          The tables are <code>statistics.parquet</code>'s rows: quantiles with their \
          distribution-free intervals and one-sided Wilks tolerance bounds.</p>\n"

@@ -12,11 +12,13 @@
 pub mod data;
 mod html;
 pub mod plots;
+mod sensitivity;
 mod worst;
 
 use crate::output::results_dir::{ResultsDirError, Staging};
-use data::{RunInfo, StatRow};
-use plots::{BarSeries, Marker, BLUE, MARKER_COLOURS, ORANGE};
+use data::StatRow;
+use plots::{Marker, MARKER_COLOURS};
+use sensitivity::{sensitivity, sensitivity_qois, SensitivitySection};
 use std::path::{Path, PathBuf};
 
 pub use worst::HEADLINE;
@@ -100,16 +102,6 @@ pub(crate) struct QoiSection {
     pub rows: Vec<StatRow>,
 }
 
-/// The sensitivity plots of one QoI.
-#[derive(Debug, Default)]
-pub(crate) struct SensitivitySection {
-    pub qoi: String,
-    pub spearman: Option<String>,
-    pub sobol: Option<String>,
-    /// Scatter file and the input it is drawn against.
-    pub scatter: Option<(String, String)>,
-}
-
 /// File-name form of a column name (`peak_pressure_pa.burn` → `peak_pressure_pa-burn`).
 pub(crate) fn file_stem(column: &str) -> String {
     column
@@ -166,8 +158,10 @@ pub fn report(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary, ReportE
             sorted.len(),
             &markers,
         )?;
-        let curve = data::exceedance(&sorted, confidence);
-        plots::exceedance(&at.join(&exc), &q, &curve, confidence, &markers)?;
+        // A margin (`min_…`) is read from its low tail.
+        let lower = crate::montecarlo::histories::worst_is_smallest(&q);
+        let curve = data::exceedance(&sorted, confidence, lower);
+        plots::exceedance(&at.join(&exc), &q, &curve, confidence, &markers, lower)?;
         plots += 2;
         let (_, shown) = plots::x_span(sorted[0], sorted[sorted.len() - 1], &markers);
         let off_scale = markers
@@ -289,144 +283,4 @@ pub(crate) fn fmt_p(p: f64) -> String {
     } else {
         "–".into()
     }
-}
-
-/// The QoIs with sensitivity rows that vary: the headline ones first, then the others.
-fn sensitivity_qois(stats: &[StatRow], varying: &[String]) -> Vec<String> {
-    let mut qs: Vec<String> = Vec::new();
-    for r in stats.iter().filter(|r| r.input.is_some()) {
-        if varying.contains(&r.quantity) && !qs.contains(&r.quantity) {
-            qs.push(r.quantity.clone());
-        }
-    }
-    qs.sort_by_key(|q| {
-        HEADLINE
-            .iter()
-            .position(|h| h == q)
-            .unwrap_or(HEADLINE.len())
-    });
-    qs
-}
-
-/// Points of a scatter, at most this many (an even stride through the instances).
-const SCATTER_POINTS: usize = 4000;
-
-/// The tornado charts and the scatter against the top driver of one QoI.
-fn sensitivity(
-    info: &RunInfo,
-    stats: &[StatRow],
-    q: &str,
-    at: &Path,
-) -> Result<SensitivitySection, ReportError> {
-    let stem = file_stem(q);
-    let mut section = SensitivitySection {
-        qoi: q.to_string(),
-        ..Default::default()
-    };
-    let rows_of = |statistic: &str| -> Vec<&StatRow> {
-        stats
-            .iter()
-            .filter(|r| r.quantity == q && r.statistic == statistic && r.input.is_some())
-            .collect()
-    };
-    let mut rho = rows_of("spearman");
-    rho.sort_by(|a, b| b.value.abs().total_cmp(&a.value.abs()));
-    if !rho.is_empty() {
-        let names: Vec<String> = rho.iter().filter_map(|r| r.input.clone()).collect();
-        let file = format!("spearman_{stem}.svg");
-        let series = [BarSeries {
-            label: String::new(),
-            colour: BLUE,
-            values: rho.iter().map(|r| (r.value, r.ci_low, r.ci_high)).collect(),
-        }];
-        plots::tornado(
-            &at.join(&file),
-            &format!("{q}: rank correlation with each input (n = {})", rho[0].n),
-            &format!(
-                "Spearman ρ (1); whiskers: {:.0} % interval",
-                rho[0].confidence * 100.0
-            ),
-            &names,
-            &series,
-            -1.05..1.05,
-        )?;
-        section.spearman = Some(file);
-        let top = &names[0];
-        let (x, y) = (
-            data::strided_column(info, top, SCATTER_POINTS)?,
-            data::strided_column(info, q, SCATTER_POINTS)?,
-        );
-        let pairs: Vec<(f64, f64)> = x
-            .into_iter()
-            .zip(y)
-            .filter(|(a, b)| a.is_finite() && b.is_finite())
-            .collect();
-        if pairs.len() >= 2 {
-            let file = format!("scatter_{stem}.svg");
-            let note = format!(
-                "{} instances, Spearman ρ = {:+.2}",
-                pairs.len(),
-                rho[0].value
-            );
-            plots::scatter(&at.join(&file), top, q, &pairs, &note, rho[0].value >= 0.0)?;
-            section.scatter = Some((file, top.clone()));
-        }
-    }
-    let (first, total) = (rows_of("sobol_first"), rows_of("sobol_total"));
-    if !first.is_empty() {
-        let mut names: Vec<String> = first.iter().filter_map(|r| r.input.clone()).collect();
-        let total_of = |name: &str| {
-            total
-                .iter()
-                .find(|r| r.input.as_deref() == Some(name))
-                .map_or((f64::NAN, f64::NAN, f64::NAN), |r| {
-                    (r.value, r.ci_low, r.ci_high)
-                })
-        };
-        names.sort_by(|a, b| total_of(b).0.total_cmp(&total_of(a).0));
-        let first_of = |name: &str| {
-            first
-                .iter()
-                .find(|r| r.input.as_deref() == Some(name))
-                .map_or((f64::NAN, f64::NAN, f64::NAN), |r| {
-                    (r.value, r.ci_low, r.ci_high)
-                })
-        };
-        let series = [
-            BarSeries {
-                label: "first order S_i".into(),
-                colour: BLUE,
-                values: names.iter().map(|n| first_of(n)).collect(),
-            },
-            BarSeries {
-                label: "total S_Ti".into(),
-                colour: ORANGE,
-                values: names.iter().map(|n| total_of(n)).collect(),
-            },
-        ];
-        let all = series.iter().flat_map(|s| s.values.iter());
-        let lo = all
-            .clone()
-            .map(|v| v.1.min(v.0))
-            .filter(|v| v.is_finite())
-            .fold(0.0, f64::min);
-        let hi = all
-            .map(|v| v.2.max(v.0))
-            .filter(|v| v.is_finite())
-            .fold(1.0, f64::max);
-        let file = format!("sobol_{stem}.svg");
-        plots::tornado(
-            &at.join(&file),
-            &format!(
-                "{q}: Sobol indices, bootstrap intervals (n = {} groups)",
-                first[0].n
-            ),
-            "Sobol index (1)",
-            &names,
-            &series,
-            (lo - 0.05)..(hi + 0.05),
-        )?;
-        section.sobol = Some(file);
-    }
-    Ok(section)
 }

@@ -103,7 +103,7 @@ pub fn x_span(lo: f64, hi: f64, markers: &[Marker]) -> (std::ops::Range<f64>, Ve
 }
 
 /// Width and height of the distribution plots, px.
-const SIZE: (u32, u32) = (600, 400);
+pub const SIZE: (u32, u32) = (600, 400);
 
 /// Histogram of one QoI with its threshold markers.
 pub fn histogram(
@@ -254,23 +254,30 @@ fn marker_keys(markers: &[Marker]) -> Vec<Key> {
         .collect()
 }
 
-/// The empirical exceedance curve P(X ≥ x) on a log axis with its pointwise band.
+/// The empirical exceedance curve P(X ≥ x) — for a margin (`lower`) the non-exceedance
+/// P(X ≤ x) — on a log axis with its pointwise band.
 pub fn exceedance(
     path: &Path,
     column: &str,
     points: &[ExceedancePoint],
     level: f64,
     markers: &[Marker],
+    lower: bool,
 ) -> Result<(), ReportError> {
     let e = plot_err(path);
-    // The last point is the largest value, reached by one instance in n.
-    let n = points.last().map_or(1.0, |p| 1.0 / p.p.max(1e-300)).round();
+    // The most extreme value is reached by one instance in n.
+    let n = (1.0 / points.iter().map(|p| p.p).fold(1.0, f64::min).max(1e-300)).round();
+    let (what, beyond, sign) = if lower {
+        ("non-exceedance", "at or below", "≤")
+    } else {
+        ("exceedance", "at or above", "≥")
+    };
     let (lo, hi) = (points[0].x, points[points.len() - 1].x);
     let (xr, shown) = x_span(lo, hi, markers);
     let pct = format!("{:.0} %", level * 100.0);
     let mut keys = vec![
         Key {
-            text: "fraction of instances at or above x".into(),
+            text: format!("fraction of instances {beyond} x"),
             colour: BLUE,
             block: false,
         },
@@ -289,7 +296,7 @@ pub fn exceedance(
     // its tick is labelled) leaves room for the band.
     let ymin = 0.8 * 10f64.powf((0.5 / n.max(1.0)).log10().floor());
     let mut chart = ChartBuilder::on(&root)
-        .caption(format!("{column}: exceedance, n = {n}"), font(17.0))
+        .caption(format!("{column}: {what}, n = {n}"), font(17.0))
         .margin(14)
         .x_label_area_size(58)
         .y_label_area_size(78)
@@ -298,7 +305,7 @@ pub fn exceedance(
     chart
         .configure_mesh()
         .x_desc(label(column))
-        .y_desc("P(X ≥ x), exceedance (1)")
+        .y_desc(format!("P(X {sign} x), {what} (1)"))
         .x_labels(7)
         .x_label_formatter(&|v| fmt_tick(*v))
         .y_label_formatter(&|v| fmt_tick(*v))
@@ -308,10 +315,14 @@ pub fn exceedance(
         .bold_line_style(BLACK.mix(0.08))
         .draw()
         .map_err(&e)?;
+    // Step functions: P(X ≥ x) takes the next point's value right after a point,
+    // P(X ≤ x) keeps a point's value up to the next.
     let step = |f: &dyn Fn(&ExceedancePoint) -> f64| {
         let mut v = vec![(points[0].x, f(&points[0]).max(ymin))];
         for w in points.windows(2) {
-            v.push((w[0].x, f(&w[1]).max(ymin)));
+            let held = if lower { &w[0] } else { &w[1] };
+            v.push((w[0].x, f(held).max(ymin)));
+            v.push((w[1].x, f(held).max(ymin)));
             v.push((w[1].x, f(&w[1]).max(ymin)));
         }
         v
@@ -337,183 +348,6 @@ pub fn exceedance(
     }
     draw_keys(&below, (90, 12), &keys, &e)?;
     canvas.present().map_err(&e)?;
-    Ok(())
-}
-
-/// One set of bars of a tornado chart: an estimate per row with its interval.
-pub struct BarSeries {
-    pub label: String,
-    pub colour: RGBColor,
-    /// (value, ci_low, ci_high) per row; NaN bounds draw no whisker.
-    pub values: Vec<(f64, f64, f64)>,
-}
-
-/// Horizontal bars per input (rows top to bottom), each series side by side, with whiskers for
-/// the intervals and a zero line.
-pub fn tornado(
-    path: &Path,
-    title: &str,
-    x_desc: &str,
-    rows: &[String],
-    series: &[BarSeries],
-    x_range: std::ops::Range<f64>,
-) -> Result<(), ReportError> {
-    let e = plot_err(path);
-    let k = rows.len().max(1);
-    let height = 150 + 26 * k as u32 * series.len().max(1) as u32 + 10 * k as u32;
-    let longest = rows.iter().map(|r| r.chars().count()).max().unwrap_or(4);
-    let left = (longest as f64 * 8.2 + 24.0).max(80.0) as u32;
-    let root =
-        SVGBackend::new(path, (SIZE.0 + left.saturating_sub(80), height)).into_drawing_area();
-    root.fill(&WHITE).map_err(&e)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, font(17.0))
-        .margin(14)
-        .x_label_area_size(58)
-        .y_label_area_size(left)
-        .build_cartesian_2d(x_range.clone(), -0.5..(k as f64 - 0.5))
-        .map_err(&e)?;
-    chart
-        .configure_mesh()
-        .x_desc(x_desc)
-        .x_labels(9)
-        .y_labels(0)
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .label_style(font(14.0))
-        .axis_desc_style(font(16.0))
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(BLACK.mix(0.08))
-        .disable_y_mesh()
-        .draw()
-        .map_err(&e)?;
-    let s = series.len().max(1) as f64;
-    let band = 0.8 / s;
-    for (j, ser) in series.iter().enumerate() {
-        let c = ser.colour;
-        let centre = |i: usize| (k - 1 - i) as f64 + 0.4 - band * (j as f64 + 0.5);
-        chart
-            .draw_series(ser.values.iter().enumerate().map(|(i, &(v, _, _))| {
-                let y = centre(i);
-                Rectangle::new([(0.0, y - 0.4 * band), (v, y + 0.4 * band)], c.filled())
-            }))
-            .map_err(&e)?
-            .label(ser.label.clone())
-            .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 22, y + 6)], c.filled()));
-        for (i, &(_, lo, hi)) in ser.values.iter().enumerate() {
-            if !(lo.is_finite() && hi.is_finite()) {
-                continue;
-            }
-            let y = centre(i);
-            let cap = 0.25 * band;
-            let whisker = BLACK.stroke_width(2);
-            chart
-                .draw_series([
-                    PathElement::new(vec![(lo, y), (hi, y)], whisker),
-                    PathElement::new(vec![(lo, y - cap), (lo, y + cap)], whisker),
-                    PathElement::new(vec![(hi, y - cap), (hi, y + cap)], whisker),
-                ])
-                .map_err(&e)?;
-        }
-    }
-    chart
-        .draw_series(std::iter::once(PathElement::new(
-            vec![(0.0, -0.5), (0.0, k as f64 - 0.5)],
-            BLACK.stroke_width(1),
-        )))
-        .map_err(&e)?;
-    // Row names beside the plotting area, right-aligned against it.
-    let x_left = x_range.start;
-    for (i, name) in rows.iter().enumerate() {
-        let (px, py) = chart.backend_coord(&(x_left, (k - 1 - i) as f64));
-        root.draw(&Text::new(
-            name.clone(),
-            (px - 10, py),
-            font(14.0).pos(Pos::new(HPos::Right, VPos::Center)),
-        ))
-        .map_err(&e)?;
-    }
-    if series.len() < 2 {
-        root.present().map_err(&e)?;
-        return Ok(());
-    }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.4))
-        .label_font(font(13.0))
-        .draw()
-        .map_err(&e)?;
-    root.present().map_err(&e)?;
-    Ok(())
-}
-
-/// A scatter of one QoI against one input, pairs with a null left out.
-pub fn scatter(
-    path: &Path,
-    x_col: &str,
-    y_col: &str,
-    pairs: &[(f64, f64)],
-    note: &str,
-    rising: bool,
-) -> Result<(), ReportError> {
-    let e = plot_err(path);
-    let root: DrawingArea<SVGBackend, Shift> = SVGBackend::new(path, SIZE).into_drawing_area();
-    root.fill(&WHITE).map_err(&e)?;
-    let bounds = |f: fn(&(f64, f64)) -> f64| {
-        pairs
-            .iter()
-            .map(f)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(v), b.max(v))
-            })
-    };
-    let (x0, x1) = bounds(|p| p.0);
-    let (y0, y1) = bounds(|p| p.1);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(format!("{y_col} against {x_col}"), font(17.0))
-        .margin(14)
-        .x_label_area_size(58)
-        .y_label_area_size(84)
-        .build_cartesian_2d(padded(x0, x1), padded(y0, y1))
-        .map_err(&e)?;
-    chart
-        .configure_mesh()
-        .x_desc(label(x_col))
-        .y_desc(label(y_col))
-        .x_labels(7)
-        .y_labels(7)
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
-        .label_style(font(14.0))
-        .axis_desc_style(font(16.0))
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(BLACK.mix(0.08))
-        .draw()
-        .map_err(&e)?;
-    chart
-        .draw_series(
-            pairs
-                .iter()
-                .map(|&(x, y)| Circle::new((x, y), 3, BLUE.mix(0.55).filled())),
-        )
-        .map_err(&e)?
-        .label(note)
-        .legend(|(x, y)| Circle::new((x + 10, y), 4, BLUE.filled()));
-    chart
-        .configure_series_labels()
-        // The corner the points leave empty: upper left when the QoI rises with the input.
-        .position(if rising {
-            SeriesLabelPosition::UpperLeft
-        } else {
-            SeriesLabelPosition::UpperRight
-        })
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.4))
-        .label_font(font(13.0))
-        .draw()
-        .map_err(&e)?;
-    root.present().map_err(&e)?;
     Ok(())
 }
 
