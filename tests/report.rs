@@ -488,3 +488,47 @@ fn index_html_renders_in_headless_chromium_with_every_image_loaded() {
     }
     assert_eq!(line("ERRORS ").trim(), "0", "errors on the page: {text}");
 }
+
+#[test]
+fn merged_shards_report_like_a_run() {
+    let dir = scratch("merge");
+    let path = campaign_path("mhtb_selfpress");
+    let shards: Vec<PathBuf> = (0..2).map(|i| dir.join(format!("shard{i}"))).collect();
+    for (i, shard) in shards.iter().enumerate() {
+        ok(&cryoslosh(&[
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            shard.to_str().unwrap(),
+            "--instances",
+            "30",
+            "--backend",
+            "cpu",
+            "--shard",
+            &format!("{i}/2"),
+        ]));
+    }
+    let merged = dir.join("merged");
+    ok(&cryoslosh(&[
+        "merge",
+        shards[0].to_str().unwrap(),
+        shards[1].to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]));
+    ok(&cryoslosh(&["report", merged.to_str().unwrap()]));
+    let report = merged.join("report");
+    let svgs = check_plots(&report);
+    assert!(
+        svgs.iter().any(|s| s == "worst_peak_pressure_pa.svg"),
+        "{svgs:?}"
+    );
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(
+        html.contains("2 shards (merged)"),
+        "the header does not say it is a merge"
+    );
+    // The merged directory's own manifest still verifies: the report is beside, not in it.
+    let manifest = std::fs::read_to_string(merged.join("manifest.json")).unwrap();
+    assert!(!manifest.contains("report/"));
+}
