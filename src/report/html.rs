@@ -63,7 +63,7 @@ border-bottom:2px solid #0072B2}h3{font-size:18px;margin-top:24px}table{border-c
 margin:8px 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}th{background:#eef4f8}\
 td:first-child,th:first-child{text-align:left}.plots{display:flex;flex-wrap:wrap;gap:12px}\
 img{max-width:100%;height:auto;border:1px solid #ddd}pre{background:#f6f6f6;padding:8px;\
-overflow-x:auto;font-size:13px}.note{color:#444}";
+overflow-x:auto;font-size:13px}.note{color:#444}table.kv td{text-align:left}";
 
 /// The page as HTML text.
 pub(crate) fn render(p: &Page) -> String {
@@ -98,7 +98,7 @@ pub(crate) fn render(p: &Page) -> String {
             info.wall_s.map_or("–".into(), |w| format!("{w:.2} s")),
         ),
     ];
-    h.push_str("<table>\n");
+    h.push_str("<table class=\"kv\">\n");
     for (k, v) in header {
         let _ = writeln!(h, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
     }
