@@ -15,6 +15,7 @@ pub mod lanes;
 pub mod model;
 pub mod montecarlo;
 pub mod output;
+pub mod report;
 pub mod sampling;
 pub mod simulate;
 pub mod stats;

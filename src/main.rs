@@ -9,6 +9,7 @@ use cryoslosh::engine::{Backend, CpuEngine};
 use cryoslosh::gpu::context::{self, GpuError};
 use cryoslosh::gpu::engine::GpuEngine;
 use cryoslosh::montecarlo::{self, RunError, RunOptions, Shard};
+use cryoslosh::report::{self, ReportError, ReportOptions};
 use cryoslosh::simulate::{self, History};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -132,6 +133,9 @@ enum Command {
         /// and end, phase ends) with time, phase and ullage pressure. CPU backend.
         #[arg(long)]
         events: bool,
+        /// After the run, write its HTML report to DIR/report (as `cryoslosh report DIR`).
+        #[arg(long)]
+        report: bool,
     },
     /// Write a commented template campaign to start from (refuses to overwrite without --force).
     Init {
@@ -144,6 +148,17 @@ enum Command {
     },
     /// List the GPU adapters the WGSL backend can use (name, backend, type, limits).
     Devices,
+    /// Write an HTML report with SVG plots of a results directory (a run or a merge).
+    Report {
+        /// Results directory (instances.parquet, statistics.parquet, run.json).
+        dir: PathBuf,
+        /// Report directory (default: DIR/report); a previous report there is replaced.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Skip re-simulating the worst instance of each headline QoI.
+        #[arg(long)]
+        no_worst_cases: bool,
+    },
     /// Join shard directories of one campaign into DIR, equal to the unsharded run.
     Merge {
         /// Shard output directories.
@@ -168,7 +183,9 @@ fn main() -> ExitCode {
             let bad_input = e.downcast_ref::<CampaignError>().is_some()
                 || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<RunError>()
-                    .is_some_and(RunError::is_bad_input);
+                    .is_some_and(RunError::is_bad_input)
+                || e.downcast_ref::<ReportError>()
+                    .is_some_and(ReportError::is_bad_input);
             if bad_input {
                 ExitCode::from(2)
             } else if e.downcast_ref::<Untrusted>().is_some() {
@@ -327,6 +344,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             until,
             resume,
             events,
+            report: with_report,
         } => {
             let mut c = Campaign::load(&campaign, &set)?;
             c.record_events = events;
@@ -380,6 +398,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     format!(", time histories in {}/histories", opts.out_dir.display())
                 }
             );
+            if with_report {
+                write_report(&opts.out_dir, None, true)?;
+            }
             check_trust(&report)
         }
         Command::Init { path, force } => {
@@ -414,6 +435,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             out!("{}", context::describe_adapters(&context::adapters()));
             Ok(())
         }
+        Command::Report {
+            dir,
+            out,
+            no_worst_cases,
+        } => write_report(&dir, out, !no_worst_cases),
         Command::Merge { dirs, out, force } => {
             let report = montecarlo::merge(&dirs, &out, force)?;
             out!("{}", montecarlo::summary_text(&report));
@@ -421,6 +447,29 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             check_trust(&report)
         }
     }
+}
+
+/// `report DIR` and `run --report`: write the report and say where it went.
+fn write_report(
+    dir: &std::path::Path,
+    out: Option<PathBuf>,
+    worst_cases: bool,
+) -> anyhow::Result<()> {
+    let start = std::time::Instant::now();
+    let opts = ReportOptions {
+        out,
+        worst_cases,
+        progress: true,
+    };
+    let r = report::report(dir, &opts)?;
+    outln!(
+        "wrote {}/index.html: {} plots, {} worst cases re-simulated, in {:.2} s",
+        r.out.display(),
+        r.plots,
+        r.replays,
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
 
 /// Most worker threads `--threads` accepts (100000 used to spawn ~16000 threads and stall the

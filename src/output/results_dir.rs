@@ -25,10 +25,15 @@ pub enum ResultsDirError {
     NotEmpty { path: PathBuf, listing: String },
     /// `--force` on a directory that is not a cryoslosh result: it would be deleted whole.
     #[error(
-        "--out {path}: not a cryoslosh results directory (no run.json; it holds {listing}): \
-         --force replaces only a previous result, so choose another directory"
+        "--out {path}: not a cryoslosh results directory (no {marker}; it holds {listing}): \
+         only a previous result is replaced, so choose another directory"
     )]
-    Foreign { path: PathBuf, listing: String },
+    Foreign {
+        path: PathBuf,
+        listing: String,
+        /// The file a previous result of this kind holds (`run.json`, a report's `index.html`).
+        marker: &'static str,
+    },
     /// `--resume` on a directory without an interrupted run.
     #[error("--resume {path}: there is no interrupted run to resume there{}", if *complete { " (it holds a complete result)" } else { "" })]
     NothingToResume { path: PathBuf, complete: bool },
@@ -104,6 +109,17 @@ impl Staging {
     /// `run.json`); an empty or missing directory needs no `force`. `resume` keeps the staging
     /// directory an interrupted run left (`run --resume`); otherwise it is removed.
     pub fn begin(target: &Path, force: bool, resume: bool) -> Result<Staging, ResultsDirError> {
+        Staging::begin_kind(target, force, resume, "run.json")
+    }
+
+    /// [`Self::begin`] for a directory of another kind, whose previous results are recognised
+    /// by the file `marker` (a report: `index.html`); only such a directory is replaced.
+    pub fn begin_kind(
+        target: &Path,
+        force: bool,
+        resume: bool,
+        marker: &'static str,
+    ) -> Result<Staging, ResultsDirError> {
         let name = target
             .file_name()
             .ok_or_else(|| ResultsDirError::NotADirectory(target.to_path_buf()))?
@@ -157,10 +173,11 @@ impl Staging {
                             listing: list,
                         });
                     }
-                    if !target.join("run.json").is_file() {
+                    if !target.join(marker).is_file() {
                         return Err(ResultsDirError::Foreign {
                             path: target.to_path_buf(),
                             listing: list,
+                            marker,
                         });
                     }
                 }

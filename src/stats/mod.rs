@@ -28,5 +28,7 @@ pub use sensitivity::{
     sobol_analysis, sobol_indices, spearman, spearman_interval, SobolAnalysis, SobolEstimate,
     SobolIndices, SobolOptions,
 };
-pub use summary::{describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES};
+pub use summary::{
+    clopper_pearson, describe, exceedance, percentile, Direction, Exceedance, StatRow, PERCENTILES,
+};
 pub use tolerance::{tolerance_bound, wilks_min_samples, Side, Tolerance};

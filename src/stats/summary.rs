@@ -208,7 +208,7 @@ pub fn exceedance(values: &[f64], threshold: f64, direction: Direction, level: f
 
 /// Exact two-sided Clopper–Pearson interval for `k` successes in `n > 0`
 /// trials; NaN bounds for an invalid `level` or `k > n`.
-fn clopper_pearson(k: u64, n: u64, level: f64) -> (f64, f64) {
+pub fn clopper_pearson(k: u64, n: u64, level: f64) -> (f64, f64) {
     if !(level > 0.0 && level < 1.0) || k > n || n == 0 {
         return (f64::NAN, f64::NAN);
     }
