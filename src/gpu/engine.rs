@@ -1,5 +1,5 @@
 //! The WGSL engine: instances are sampled and resolved on the CPU (rayon), uploaded as f32
-//! records, integrated through their whole phase list by `shaders/model.wgsl` (one instance per
+//! records, integrated through their whole phase list by the WGSL kernel in `shaders/` (one instance per
 //! invocation) and only the quantities of interest come back.
 //!
 //! Batches respect the adapter's storage-binding size and 65,535 workgroups per dimension.
@@ -27,7 +27,8 @@ use wgpu::util::DeviceExt;
 const WORKGROUP: u32 = 64;
 
 /// The whole kernel source for `integrator`: generated constants and structs, the physics and
-/// observation (`shaders/model.wgsl`), then the stepping loop (`shaders/rk4.wgsl` with entry
+/// observation (`shaders/model.wgsl`, `derive.wgsl`, `closures.wgsl`, `rhs.wgsl`,
+/// `observe.wgsl`), then the stepping loop (`shaders/rk4.wgsl` with entry
 /// point `main`, or `shaders/adaptive.wgsl` with `main_dopri5`). One module per integrator: a
 /// driver that compiles the whole module for each entry point (llvmpipe) pays for one loop only.
 pub fn kernel_source(integrator: Integrator) -> String {
@@ -44,6 +45,10 @@ pub fn kernel_source(integrator: Integrator) -> String {
         GpuPhaseResult::wgsl(),
         GpuControl::wgsl(),
         include_str!("../../shaders/model.wgsl").to_string(),
+        include_str!("../../shaders/derive.wgsl").to_string(),
+        include_str!("../../shaders/closures.wgsl").to_string(),
+        include_str!("../../shaders/rhs.wgsl").to_string(),
+        include_str!("../../shaders/observe.wgsl").to_string(),
         stepping.to_string(),
     ]
     .join("\n")

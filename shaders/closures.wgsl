@@ -1,0 +1,213 @@
+// Heat-transfer and flow closures in f32 (src/model/thermal.rs, boundary.rs): convection
+// correlations, the stiff blend, interfacial evaporation coefficients, orifice and boundary flows.
+
+// ---------------------------------------------------------------- closures (thermal.rs)
+
+struct Conv {
+    k: f32,
+    mu: f32,
+    rho: f32,
+    cp: f32,
+    beta: f32,
+}
+
+fn liquid_props(t: f32) -> Conv {
+    let rho = fl_rho_l(t);
+    return Conv(fl_k_l(t), fl_mu_l(t), rho, fl_cp_l(t), -fl_drho_l_dt(t) / rho);
+}
+
+fn gas_props(s: ptr<function, St>, x: Derived) -> Conv {
+    let m = x.m_v + (*s)[M_G];
+    let y = select(1.0, x.m_v / m, m > 0.0);
+    let t = x.t_u;
+    return Conv(
+        y * fl_k_v(t) + (1.0 - y) * he_k(t),
+        y * fl_mu_v(t) + (1.0 - y) * he_mu(t),
+        m / x.v_u,
+        y * FL.cp_vapor + (1.0 - y) * HE.cp,
+        1.0 / t,
+    );
+}
+
+/// (Ra, Pr); Ra is formed as a product of powers so that f32 never overflows on L³.
+fn rayleigh(p: Conv, accel: f32, dt_k: f32, length: f32) -> vec2<f32> {
+    let nu = p.mu / p.rho;
+    let alpha = p.k / (p.rho * p.cp);
+    let ra = max(accel, 0.0) * abs(p.beta) * abs(dt_k) / (nu * alpha) * length * length * length;
+    return vec2<f32>(ra, nu / alpha);
+}
+
+fn h_vertical_wall(p: Conv, accel: f32, dt_k: f32, length_m: f32) -> f32 {
+    let length = max(length_m, 1.0e-3);
+    let rp = rayleigh(p, accel, dt_k, length);
+    let f = pow(1.0 + pow(0.492 / rp.y, 9.0 / 16.0), 8.0 / 27.0);
+    let nu = 0.825 + 0.387 * pow(rp.x, 1.0 / 6.0) / f;
+    return nu * nu * p.k / length;
+}
+
+fn h_stable_interface(p: Conv, accel: f32, dt_k: f32, length_m: f32) -> f32 {
+    let length = max(length_m, 1.0e-3);
+    let rp = rayleigh(p, accel, dt_k, length);
+    return (1.0 + 0.27 * pow(rp.x, 0.25)) * p.k / length;
+}
+
+fn h_unstable_interface(p: Conv, accel: f32, dt_unstable_k: f32, length_m: f32) -> f32 {
+    let length = max(length_m, 1.0e-3);
+    let rp = rayleigh(p, accel, max(dt_unstable_k, 0.0), length);
+    return 0.15 * pow(rp.x, 1.0 / 3.0) * p.k / length;
+}
+
+/// Weights (a, w) of a stiff relaxation's rate K (a Δ + w h F) at z = h K J: a = S5(z)/S6(z),
+/// w = z^5/S6(z), S_n = 1 + z + … + z^n, evaluated in 1/z beyond z = 1 (thermal::stiff_blend).
+fn stiff_blend(z: f32) -> vec2<f32> {
+    let big = z > 1.0;
+    let v = select(z, 1.0 / z, big);
+    var s_lo = 1.0;
+    var v_lo = 1.0;
+    for (var i = 1u; i < STIFF_BLEND_ORDER; i += 1u) {
+        s_lo = s_lo * v + 1.0;
+        v_lo = v_lo * v;
+    }
+    let s_hi = s_lo + v_lo * v;
+    return vec2<f32>(s_lo / s_hi * select(1.0, v, big), select(v_lo, v, big) / s_hi);
+}
+
+/// Wall-to-fluid heat over a step, stiff in ΔT with the wall's own warming rate `warming`
+/// (heat leak / wall heat capacity, K/s; thermal::wall_exchange).
+fn wall_exchange(ua: f32, dt: f32, c_wall: f32, c_fluid: f32, dtemp: f32, warming: f32) -> f32 {
+    let aw = stiff_blend(dt * ua * (1.0 / c_wall + 1.0 / c_fluid));
+    return ua * (aw.x * dtemp + aw.y * dt * warming);
+}
+
+fn schrage_coefficient(area: f32, sigma: f32, molar_mass: f32, t: f32) -> f32 {
+    return area * 2.0 * sigma / (2.0 - sigma) * sqrt(molar_mass / (2.0 * PI * R_UNIVERSAL * t));
+}
+
+fn orifice_flow(area: f32, p_up: f32, p_down: f32, t: f32, r: f32, g: f32) -> f32 {
+    if (p_up <= p_down || p_up <= 0.0) {
+        return 0.0;
+    }
+    let pr_crit = pow(2.0 / (g + 1.0), g / (g - 1.0));
+    let pr = max(p_down / p_up, pr_crit);
+    let flux = sqrt(max(2.0 * g / ((g - 1.0) * r * t) * (pow(pr, 2.0 / g) - pow(pr, (g + 1.0) / g)), 0.0));
+    return area * p_up * flux;
+}
+
+// ---------------------------------------------------------------- boundary.rs
+
+struct Bnd {
+    press: f32,
+    vent: f32,
+    y: f32,
+    out: f32,
+}
+
+fn boundary_flows(s: ptr<function, St>, d: Drive, x: Derived) -> Bnd {
+    let m_u = (*s)[M_V] + (*s)[M_G];
+    let y = select(1.0, (*s)[M_V] / m_u, m_u > 0.0);
+    var b = Bnd(0.0, 0.0, y, 0.0);
+    if ((P.flags & FLAG_PRESSURIZATION) != 0u && d.pressurize) {
+        let e = P.press_setpoint_pa - x.p_u;
+        let e_dot = -(x.p_u - (*s)[P_FILT]) / P.press_filter_s;
+        let demand = clamp(P.press_kp * e + P.press_kd * e_dot, 0.0, P.press_max_flow);
+        let left = P.press_bottle_kg - (*s)[PRESS_IN];
+        let fade = clamp(left / (1.0e-3 * P.press_bottle_kg + 1.0e-9), 0.0, 1.0);
+        b.press = demand * fade;
+    }
+    if ((P.flags & FLAG_RELIEF) != 0u && d.valve_open) {
+        let rv = fl_r_specific();
+        let rg = he_r_specific();
+        let r_mix = y * rv + (1.0 - y) * rg;
+        let cp = y * FL.cp_vapor + (1.0 - y) * HE.cp;
+        let cv = y * FL.cv_vapor + (1.0 - y) * HE.cv;
+        let back = ambient_pressure((*s)[ALT]);
+        b.vent = orifice_flow(P.relief_area_m2, x.p_u, back, x.t_u, r_mix, cp / cv);
+    }
+    if (d.burning) {
+        let engine = d.thrust_n / (P.isp_s * G0);
+        let avail = clamp(x.m_l / (1.0e-6 * max(x.m_l, 1.0) + 1.0e-3), 0.0, 1.0);
+        b.out = engine * P.propellant_fraction * avail;
+    }
+    return b;
+}
+
+fn motion_rates(s: ptr<function, St>, d: Drive, x: Derived, ds: ptr<function, St>) -> f32 {
+    let sl = x.sl;
+    var force = 0.0;
+    if (P.fidelity == FID_LUMPED) {
+        let th = (*s)[Q1];
+        let w = (*s)[Q1D];
+        let l = sl.length.x;
+        let om = sl.omega.x;
+        let acc = -(x.a_ax / l) * sin(th) - 2.0 * sl.zeta * om * w - (d.a_lat / l) * cos(th);
+        (*ds)[Q1] = w;
+        (*ds)[Q1D] = acc;
+        force = -sl.mass.x * (l * (acc * cos(th) - w * w * sin(th)) + d.a_lat);
+    } else if (P.fidelity == FID_TWO_MODE) {
+        let om = sl.omega;
+        let acc1 = -om.x * om.x * (*s)[Q1] - 2.0 * sl.zeta * om.x * (*s)[Q1D] - d.a_lat;
+        let acc2 = -om.y * om.y * (*s)[Q2] - 2.0 * sl.zeta * om.y * (*s)[Q2D] - d.a_lat;
+        (*ds)[Q1] = (*s)[Q1D];
+        (*ds)[Q1D] = acc1;
+        (*ds)[Q2] = (*s)[Q2D];
+        (*ds)[Q2D] = acc2;
+        force = -sl.mass.x * (acc1 + d.a_lat) - sl.mass.y * (acc2 + d.a_lat);
+    }
+    if (d.flying) {
+        let g = gravity((*s)[ALT]);
+        (*ds)[VEL] = (d.thrust_n - x.drag) / x.mass - g * sin(d.gamma_rad);
+        (*ds)[ALT] = (*s)[VEL] * sin(d.gamma_rad);
+    }
+    if ((P.flags & FLAG_PRESSURIZATION) != 0u) {
+        (*ds)[P_FILT] = (x.p_u - (*s)[P_FILT]) / P.press_filter_s;
+    }
+    return force;
+}
+
+fn slosh_speed(s: ptr<function, St>, x: Derived) -> f32 {
+    if (P.fidelity == FID_LUMPED) {
+        return abs((*s)[Q1D]);
+    }
+    if (P.fidelity == FID_TWO_MODE) {
+        return abs((*s)[Q1D]) / x.sl.length.x + abs((*s)[Q2D]) / x.sl.length.y;
+    }
+    return 0.0;
+}
+
+fn slosh_angle_rate(s: ptr<function, St>, x: Derived) -> f32 {
+    if (P.fidelity == FID_TWO_MODE) {
+        let l = x.sl.length.x;
+        let r = (*s)[Q1] / l;
+        return (*s)[Q1D] / l / (1.0 + r * r);
+    }
+    return (*s)[Q1D];
+}
+
+fn wall_rates(x: Derived, q_wet: f32, q_dry: f32, dv_liquid: f32, ds: ptr<function, St>) {
+    let dz = dv_liquid / max(tank_cross_section_area(x.level), 1.0e-9);
+    let m_wall = P.wall_areal_mass * tank_wall_area();
+    let dshare = x.wet_slope * dz;
+    let t_moving = select(x.t_wd, x.t_ww, dshare < 0.0);
+    let handover = m_wall * dshare * P.wall_cp * t_moving;
+    let q_env = P.heat_leak_w;
+    (*ds)[E_WD] = q_env * (1.0 - x.wet) - q_dry - handover;
+    (*ds)[E_WW] = q_env * x.wet - q_wet + handover;
+    (*ds)[E_ENV] = q_env;
+}
+
+fn boundary_ledger(b: Bnd, h_press: f32, h_u: f32, e_out: f32, ds: ptr<function, St>) {
+    (*ds)[VENT_V] = b.vent * b.y;
+    (*ds)[VENT_G] = b.vent * (1.0 - b.y);
+    (*ds)[OUT] = b.out;
+    (*ds)[PRESS_IN] = b.press;
+    (*ds)[E_PRESS] = b.press * h_press;
+    (*ds)[E_VENT] = b.vent * h_u;
+    (*ds)[E_OUT] = e_out;
+}
+
+fn helium_inlet_enthalpy() -> f32 {
+    if ((P.flags & FLAG_PRESSURIZATION) != 0u) {
+        return HE.cp * P.press_gas_t;
+    }
+    return 0.0;
+}

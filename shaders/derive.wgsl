@@ -1,0 +1,185 @@
+// The derived state of one instance in f32 (src/model/derive.rs, homogeneous.rs): temperatures,
+// volumes, level, slosh parameters from the conserved state. Part of the kernel after model.wgsl.
+
+// ---------------------------------------------------------------- derived state (derive.rs)
+
+struct Derived {
+    t_u: f32,
+    t_s: f32,
+    t_b: f32,
+    t_wd: f32,
+    t_ww: f32,
+    rho_s: f32,
+    rho_b: f32,
+    v_s: f32,
+    v_b: f32,
+    v_u: f32,
+    level: f32,
+    a_i: f32,
+    wet: f32,
+    wet_slope: f32,
+    m_v: f32,
+    m_l: f32,
+    p_v: f32,
+    p_u: f32,
+    a_ax: f32,
+    mass: f32,
+    drag: f32,
+    sl: Slosh,
+}
+
+fn wetted_fraction(z: f32) -> f32 {
+    return clamp(tank_wetted_area(z) / tank_wall_area(), MIN_WALL_SHARE, 1.0 - MIN_WALL_SHARE);
+}
+
+fn wetted_fraction_slope(z: f32) -> f32 {
+    let raw = tank_wetted_area(z) / tank_wall_area();
+    if (raw <= MIN_WALL_SHARE || raw >= 1.0 - MIN_WALL_SHARE) {
+        return 0.0;
+    }
+    return tank_wetted_area_slope(z) / tank_wall_area();
+}
+
+fn wall_temperatures(s: ptr<function, St>, wet: f32) -> vec2<f32> {
+    let mc = P.wall_areal_mass * tank_wall_area() * P.wall_cp;
+    return vec2<f32>((*s)[E_WD] / (mc * (1.0 - wet)), (*s)[E_WW] / (mc * wet));
+}
+
+fn fill_level(x: ptr<function, Derived>, v_liquid: f32) {
+    let z = tank_liquid_height(v_liquid);
+    let r = tank_radius();
+    (*x).level = z;
+    (*x).a_i = max(tank_interface_area(z), 1.0e-6 * r * r);
+    (*x).wet = wetted_fraction(z);
+    (*x).wet_slope = wetted_fraction_slope(z);
+}
+
+fn slosh_params(v_liquid: f32, m_liquid: f32, z: f32, a_ax: f32, nu: f32) -> Slosh {
+    let r = max(tank_surface_radius(z), 0.05 * tank_radius());
+    let h = v_liquid / (PI * r * r);
+    let hr = h / r;
+    let zeta = wall_damping(nu, r, a_ax, hr) + baffle_damping(r, z) + P.extra_damping;
+    let m0 = mode_shape(XI_0, hr);
+    let m1 = mode_shape(XI_1, hr);
+    var out: Slosh;
+    out.mass = vec2<f32>(m0.x, m1.x) * m_liquid;
+    out.length = vec2<f32>(m0.y, m1.y) * r;
+    out.omega = sqrt(vec2<f32>(m0.z, m1.z) * a_ax / r);
+    out.zeta = zeta;
+    return out;
+}
+
+fn motion(s: ptr<function, St>, d: Drive, x: ptr<function, Derived>, nu_liquid: f32) {
+    let m_tank = (*x).m_l + (*s)[M_V] + (*s)[M_G];
+    let other_used = (*s)[OUT] * (1.0 / P.propellant_fraction - 1.0);
+    let mass = max(P.dry_mass_kg + m_tank - other_used, 1.0);
+    let v = (*s)[VEL];
+    let drag = 0.5 * air_density((*s)[ALT]) * v * abs(v) * P.drag_area_m2;
+    var a = 0.0;
+    if (d.flying) {
+        a = (d.thrust_n - drag) / mass;
+    }
+    (*x).mass = mass;
+    (*x).drag = drag;
+    (*x).a_ax = max(a + d.gravity + d.a_ax_extra, MIN_AXIAL_ACCEL);
+    let v_l = (*x).v_s + (*x).v_b;
+    let a_total = sqrt((*x).a_ax * (*x).a_ax + d.a_lat * d.a_lat);
+    (*x).sl = slosh_params(v_l, (*x).m_l, (*x).level, a_total, nu_liquid);
+}
+
+fn slosh_angle(s: ptr<function, St>, sl: Slosh) -> f32 {
+    if (P.fidelity == FID_TWO_MODE) {
+        return atan((*s)[Q1] / sl.length.x);
+    }
+    return (*s)[Q1];
+}
+
+fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
+    var x: Derived;
+    let m_s = max((*s)[M_S], 1.0e-12);
+    let m_b = max((*s)[M_B], 1.0e-12);
+    x.t_s = fl_t_from_h_l((*s)[H_S] / m_s);
+    x.t_b = select(fl_t_from_h_l((*s)[H_B] / m_b), x.t_s, (*s)[M_B] <= 0.0);
+    x.rho_s = fl_rho_l(x.t_s);
+    x.rho_b = fl_rho_l(x.t_b);
+    x.v_s = (*s)[M_S] / x.rho_s;
+    x.v_b = (*s)[M_B] / x.rho_b;
+    x.m_l = (*s)[M_S] + (*s)[M_B];
+    let v_l = x.v_s + x.v_b;
+    fill_level(&x, v_l);
+    let nu = fl_mu_l(x.t_b) / x.rho_b;
+    motion(s, d, &x, nu);
+    x.v_u = tank_volume() - v_l + P.coupling_volume_m3 * sin(slosh_angle(s, x.sl));
+    let heat_cap = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
+    x.t_u = ((*s)[U_U] - (*s)[M_V] * FL.vapor_offset) / heat_cap;
+    x.m_v = (*s)[M_V];
+    x.p_v = (*s)[M_V] * fl_r_specific() * x.t_u / x.v_u;
+    x.p_u = x.p_v + (*s)[M_G] * he_r_specific() * x.t_u / x.v_u;
+    let tw = wall_temperatures(s, x.wet);
+    x.t_wd = tw.x;
+    x.t_ww = tw.y;
+    return x;
+}
+
+// ---------------------------------------------------------------- homogeneous level
+
+fn vapor_mass(m_p: f32, t: f32) -> f32 {
+    let rho_v = fl_psat_pa(t) / (fl_r_specific() * t);
+    let rho_l = fl_rho_l(t);
+    return clamp(rho_v * (tank_volume() - m_p / rho_l) / (1.0 - rho_v / rho_l), 0.0, m_p);
+}
+
+fn fluid_energy(m_p: f32, m_g: f32, t: f32) -> f32 {
+    let m_v = vapor_mass(m_p, t);
+    let u_v = FL.cv_vapor * t + FL.vapor_offset;
+    return (m_p - m_v) * fl_h_l(t) + m_v * u_v + m_g * HE.cv * t;
+}
+
+/// Newton on E(T) = e. The f32 slope is a central difference over ±1 mK (the CPU's ±1e-6 T
+/// would be rounding noise in f32); the root is the same.
+fn homogeneous_temperature(m_p: f32, m_g: f32, e: f32) -> f32 {
+    let lo = FL.t_min_hi;
+    let hi = FL.t_max;
+    var t = clamp(fl_t_from_h_l(e / m_p), lo, hi);
+    for (var it = 0u; it < 8u; it++) {
+        let h = 1.0e-3;
+        let r = fluid_energy(m_p, m_g, t) - e;
+        let slope = (fluid_energy(m_p, m_g, t + h) - fluid_energy(m_p, m_g, t - h)) / (2.0 * h);
+        t = clamp(t - r / slope, lo, hi);
+    }
+    return t;
+}
+
+fn derive_homogeneous(s: ptr<function, St>, d: Drive) -> Derived {
+    let m_p = (*s)[M_B];
+    let m_g = (*s)[M_G];
+    let t = homogeneous_temperature(m_p, m_g, (*s)[H_B]);
+    let m_v = vapor_mass(m_p, t);
+    let rho = fl_rho_l(t);
+    var x: Derived;
+    x.t_u = t;
+    x.t_s = t;
+    x.t_b = t;
+    x.rho_s = rho;
+    x.rho_b = rho;
+    x.v_s = 0.0;
+    x.v_b = (m_p - m_v) / rho;
+    x.m_v = m_v;
+    x.m_l = m_p - m_v;
+    fill_level(&x, x.v_b);
+    x.v_u = tank_volume() - x.v_b;
+    x.p_v = fl_psat_pa(t);
+    x.p_u = x.p_v + m_g * he_r_specific() * t / x.v_u;
+    let tw = wall_temperatures(s, x.wet);
+    x.t_wd = tw.x;
+    x.t_ww = tw.y;
+    motion(s, d, &x, fl_mu_l(t) / rho);
+    return x;
+}
+
+fn derive_state(s: ptr<function, St>, d: Drive) -> Derived {
+    if (P.fidelity == FID_HOMOGENEOUS) {
+        return derive_homogeneous(s, d);
+    }
+    return derive_nodes(s, d);
+}

@@ -1,0 +1,239 @@
+// Evaluation and observation in f32 (src/model/mod.rs, src/simulate/qoi.rs, the outcomes of
+// src/simulate/mod.rs): evaluate, the state checks, cavitation margin, extremes and per-phase
+// records, valve, bulk merge, slosh validity, outcomes.
+
+// ---------------------------------------------------------------- mod.rs, simulate.rs
+
+struct Eval {
+    x: Derived,
+    ds: St,
+    force: f32,
+    /// Interfacial evaporation rate, kg/s, and its relaxation rate K·J, 1/s (0 at the
+    /// homogeneous level; error control and its restart step use them).
+    evap: f32,
+    relax: f32,
+}
+
+// Set by the lumped right-hand side for evaluate's Eval (nodes::Fluxes::evap_kg_s,
+// evap_relaxation_per_s).
+var<private> EVAP_RATE: f32;
+var<private> EVAP_RELAX: f32;
+
+fn evaluate(s: ptr<function, St>, d: Drive, dt: f32) -> Eval {
+    var ev: Eval;
+    ev.x = derive_state(s, d);
+    var ds: St;
+    for (var i = 0u; i < NS; i++) {
+        ds[i] = 0.0;
+    }
+    EVAP_RATE = 0.0;
+    EVAP_RELAX = 0.0;
+    if (P.fidelity == FID_HOMOGENEOUS) {
+        ev.force = rhs_homogeneous(s, d, ev.x, dt, &ds);
+    } else {
+        ev.force = rhs_nodes(s, d, ev.x, dt, &ds);
+    }
+    ev.ds = ds;
+    ev.evap = EVAP_RATE;
+    ev.relax = EVAP_RELAX;
+    return ev;
+}
+
+fn rates_at(s: ptr<function, St>, a: f32, k: ptr<function, St>, d: Drive, dt: f32) -> St {
+    var y: St;
+    for (var i = 0u; i < NS; i++) {
+        y[i] = (*s)[i] + a * (*k)[i];
+    }
+    return evaluate(&y, d, dt).ds;
+}
+
+fn not_finite(v: f32) -> bool {
+    return (bitcast<u32>(v) & 0x7f800000u) == 0x7f800000u;
+}
+
+/// Which check failed (an index into DIVERGED_REASONS) and the offending value; 0 if none.
+fn check_state(s: ptr<function, St>, x: Derived) -> vec2<f32> {
+    for (var i = 0u; i < NS; i++) {
+        if (not_finite((*s)[i])) {
+            return vec2<f32>(1.0, f32(i));
+        }
+    }
+    var v = array<f32, 7>(x.p_u, x.v_u, x.t_u, x.t_s, x.t_b, x.t_wd, x.t_ww);
+    var lo = array<f32, 7>(0.0, 0.0, 1.0, FL.t_min_hi - 2.0, FL.t_min_hi - 2.0, 1.0, 1.0);
+    var hi = array<f32, 7>(10.0 * FL.p_crit, 3.4e38, 2000.0, FL.t_max + 2.0, FL.t_max + 2.0, 2000.0, 2000.0);
+    for (var i = 0u; i < 7u; i++) {
+        if (not_finite(v[i]) || !(v[i] > lo[i] && v[i] < hi[i])) {
+            return vec2<f32>(f32(2u + i), v[i]);
+        }
+    }
+    let scale = 1.0e-9 * max(abs((*s)[M_B] + (*s)[M_S]), 1.0);
+    if ((*s)[M_V] < -scale) {
+        return vec2<f32>(9.0, (*s)[M_V]);
+    }
+    if ((*s)[M_G] < -scale) {
+        return vec2<f32>(10.0, (*s)[M_G]);
+    }
+    if ((*s)[M_S] < -scale) {
+        return vec2<f32>(11.0, (*s)[M_S]);
+    }
+    if ((*s)[M_B] < -scale) {
+        return vec2<f32>(11.0, (*s)[M_B]);
+    }
+    return vec2<f32>(0.0, 0.0);
+}
+
+fn cavitation_margin(s: ptr<function, St>, x: Derived) -> vec2<f32> {
+    let bulk_gone = (*s)[M_B] <= BULK_MERGE_FRACTION * ((*s)[M_B] + (*s)[M_S]);
+    let rho = select(x.rho_b, x.rho_s, bulk_gone);
+    let t_out = select(x.t_b, x.t_s, bulk_gone);
+    let head = x.p_u + rho * x.a_ax * (x.level + P.line_height_m) - P.line_loss_pa
+        - 0.5 * rho * P.line_velocity_m_s * P.line_velocity_m_s - fl_psat_pa(t_out);
+    let margin = head / (rho * G0) - P.npsh_required_m;
+    return vec2<f32>(margin, margin * rho * G0);
+}
+
+fn observe(r: ptr<function, GpuResult>, s: ptr<function, St>, t: f32, ev: Eval, d: Drive) {
+    let pu = ev.x.p_u;
+    if (pu > (*r).peak_pressure_pa) {
+        // A later peak within f32 rounding of the first is the same peak (simulate::observe).
+        if (pu > (*r).peak_pressure_pa + 1.0e-6 * abs((*r).peak_pressure_pa)) {
+            (*r).peak_pressure_time_s = t;
+        }
+        (*r).peak_pressure_pa = pu;
+    }
+    if (pu < (*r).min_pressure_pa) {
+        (*r).min_pressure_pa = pu;
+        (*r).min_pressure_time_s = t;
+    }
+    var ph = phase_results[PHASE_SLOT];
+    if (d.burning) {
+        let m = cavitation_margin(s, ev.x);
+        if ((*r).drew == 0u || m.x < (*r).min_margin_m) {
+            (*r).drew = 1u;
+            (*r).min_margin_m = m.x;
+            (*r).min_margin_pa = m.y;
+            (*r).min_margin_time_s = t;
+        }
+        if (ph.drew == 0u || m.x < ph.min_margin_m) {
+            ph.drew = 1u;
+            ph.min_margin_m = m.x;
+        }
+    }
+    let angle = abs(slosh_angle(s, ev.x.sl));
+    (*r).last_angle_rad = angle;
+    (*r).max_slosh_angle_rad = max((*r).max_slosh_angle_rad, angle);
+    let force = abs(ev.force);
+    (*r).peak_slosh_force_n = max((*r).peak_slosh_force_n, force);
+    (*r).peak_slosh_moment_n_m = max((*r).peak_slosh_moment_n_m, force * abs(P.lever_arm_m));
+    ph.peak_pressure_pa = max(ph.peak_pressure_pa, pu);
+    ph.min_pressure_pa = min(ph.min_pressure_pa, pu);
+    ph.max_slosh_angle_rad = max(ph.max_slosh_angle_rad, angle);
+    phase_results[PHASE_SLOT] = ph;
+}
+
+/// Phase record `slot` starts from the last observed state (hi + lo words) of `r`
+/// (simulate::qoi::Tracker::enter_phase): its start pressure, slosh angle, vapour mass and vented
+/// slots.
+fn enter_phase(slot: u32, r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>) {
+    var ph: GpuPhaseResult;
+    ph.entered = 1u;
+    ph.start_pressure_pa = (*r).p_ullage_pa;
+    ph.peak_pressure_pa = (*r).p_ullage_pa;
+    ph.min_pressure_pa = (*r).p_ullage_pa;
+    ph.max_slosh_angle_rad = (*r).last_angle_rad;
+    if (P.fidelity == FID_HOMOGENEOUS) {
+        ph.m_vapor_hi = (*r).m_vapor_kg;
+    } else {
+        ph.m_vapor_hi = (*hi)[M_V];
+        ph.m_vapor_lo = (*lo)[M_V];
+    }
+    ph.vent_v_hi = (*hi)[VENT_V];
+    ph.vent_v_lo = (*lo)[VENT_V];
+    ph.vent_g_hi = (*hi)[VENT_G];
+    ph.vent_g_lo = (*lo)[VENT_G];
+    phase_results[slot] = ph;
+}
+
+fn update_valve(pressure: f32, open: bool) -> bool {
+    if ((P.flags & FLAG_RELIEF) == 0u) {
+        return false;
+    }
+    if (pressure >= P.relief_crack_pa) {
+        return true;
+    }
+    if (pressure <= P.relief_reseat_pa) {
+        return false;
+    }
+    return open;
+}
+
+/// Move slot `src` into slot `dst` on the hi + lo words, keeping the rounding in lo.
+fn absorb(hi: ptr<function, St>, lo: ptr<function, St>, dst: u32, src: u32) {
+    let t = ((*hi)[dst] + (*hi)[src]) * control.one;
+    let err = (*hi)[src] - (t - (*hi)[dst]);
+    (*lo)[dst] = (*lo)[dst] + (*lo)[src] + err;
+    (*hi)[dst] = t;
+    (*hi)[src] = 0.0;
+    (*lo)[src] = 0.0;
+}
+
+/// Merge a nearly empty bulk node into the layer (model::merge_empty_bulk). True if it merged.
+fn merge_empty_bulk(hi: ptr<function, St>, lo: ptr<function, St>) -> bool {
+    let m_b = (*hi)[M_B] + (*lo)[M_B];
+    let m_s = (*hi)[M_S] + (*lo)[M_S];
+    if (P.fidelity == FID_HOMOGENEOUS || m_b <= 0.0 || m_b > BULK_MERGE_FRACTION * (m_b + m_s)) {
+        return false;
+    }
+    absorb(hi, lo, M_S, M_B);
+    absorb(hi, lo, H_S, H_B);
+    return true;
+}
+
+/// Accumulate the time the slosh analog spends outside its range (LaneRun::slosh_validity).
+fn slosh_validity(r: ptr<function, GpuResult>, s: ptr<function, St>, dt: f32, ev: Eval, d: Drive) {
+    if (P.fidelity == FID_HOMOGENEOUS) {
+        return;
+    }
+    let a = sqrt(ev.x.a_ax * ev.x.a_ax + d.a_lat * d.a_lat);
+    let sigma = P.sigma0 * pow(max(1.0 - ev.x.t_s / P.sigma_tc, 0.0), P.sigma_exp);
+    let bond = ev.x.rho_b * a * TANK.radius * TANK.radius / sigma;
+    if (bond < SLOSH_BOND_MIN || abs(slosh_angle(s, ev.x.sl)) > SLOSH_ANGLE_MAX_RAD) {
+        (*r).slosh_out = 1u;
+        (*r).slosh_out_time_s += dt;
+    }
+}
+
+/// The fraction of a step where values a → b cross `level`, linearly (simulate::crossing).
+fn crossing(a: f32, b: f32, level: f32) -> f32 {
+    if (a == b) {
+        return 1.0;
+    }
+    return clamp((a - level) / (a - b), 0.0, 1.0);
+}
+
+/// Outcomes of the step from t0 to t1 ending at evaluation ev (LaneRun::outcomes): the bottle
+/// running out (first time), and the tank running dry. True when it ran dry.
+fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval) -> bool {
+    if ((P.flags & FLAG_PRESSURIZATION) != 0u && (*r).exhausted == 0u) {
+        let empty = P.press_bottle_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
+        if (press1 >= empty) {
+            (*r).exhausted = 1u;
+            (*r).exhausted_time_s = t0 + crossing(press0, press1, empty) * (t1 - t0);
+        }
+    }
+    let residual = (*r).m_liquid0_kg * DEPLETION_RESIDUAL_FRACTION;
+    if (!(ev.x.m_l <= residual)) {
+        return false;
+    }
+    (*r).depleted = 1u;
+    (*r).depleted_time_s = t0 + crossing((*r).m_liquid_kg, ev.x.m_l, residual) * (t1 - t0);
+    return true;
+}
+
+fn save_last(r: ptr<function, GpuResult>, x: Derived) {
+    (*r).m_vapor_kg = x.m_v;
+    (*r).t_layer_k = x.t_s;
+    (*r).t_bulk_k = x.t_b;
+    (*r).p_ullage_pa = x.p_u;
+    (*r).m_liquid_kg = x.m_l;
+}

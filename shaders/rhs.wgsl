@@ -1,0 +1,256 @@
+// The right-hand sides in f32 (src/model/nodes.rs; the homogeneous level's too): node rates,
+// the stiff evaporation, wall and motion rates.
+
+// ---------------------------------------------------------------- nodes.rs
+
+/// (wetted-wall ↔ liquid, dry-wall ↔ gas) coefficients: the campaign's, or Churchill–Chu.
+fn wall_coefficients(x: Derived, liq: Conv, gas: Conv, t_liquid: f32, t_gas: f32) -> vec2<f32> {
+    var h_wl = P.h_wall_liquid;
+    if ((P.flags & FLAG_H_WALL_LIQUID) == 0u) {
+        h_wl = h_vertical_wall(liq, x.a_ax, x.t_ww - t_liquid, x.level);
+    }
+    var h_wu = P.h_wall_ullage;
+    if ((P.flags & FLAG_H_WALL_ULLAGE) == 0u) {
+        h_wu = h_vertical_wall(gas, x.a_ax, x.t_wd - t_gas, tank_height() - x.level);
+    }
+    return vec2<f32>(h_wl, h_wu);
+}
+
+/// (dH/dt, dV/dt) of a liquid node doing P dV work on the ullage.
+fn liquid_node_rates(p_pa: f32, flux_w: f32, dm: f32, t: f32, rho: f32) -> vec2<f32> {
+    let beta = -fl_drho_l_dt(t) / (rho * rho * fl_cp_l(t));
+    let h = fl_h_l(t);
+    let dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (1.0 + p_pa * beta);
+    return vec2<f32>(dh, dm / rho + beta * (dh - h * dm));
+}
+
+/// (K, Δp) of the interfacial evaporation (nodes::evaporation_driving).
+fn evaporation_driving(s: ptr<function, St>, x: Derived, h_mass: f32) -> vec2<f32> {
+    let t_s = x.t_s;
+    let rv = fl_r_specific();
+    var k_kin = P.evap_coeff;
+    if ((P.flags & FLAG_EVAP_COEFF) == 0u) {
+        k_kin = schrage_coefficient(x.a_i, P.accommodation, FL.molar_mass, t_s);
+    }
+    let moles_v = (*s)[M_V] / FL.molar_mass;
+    let moles_g = (*s)[M_G] / HE.molar_mass;
+    let x_he = moles_g / max(moles_v + moles_g, 1.0e-30);
+    let diffusion = x_he * rv * x.t_u / max(h_mass * x.a_i, 1.0e-30);
+    let k = 1.0 / (1.0 / k_kin + diffusion);
+    return vec2<f32>(k, fl_psat_pa(t_s) - x.p_v);
+}
+
+/// What the slots evaporation moves depend on, besides the evaporation rate (nodes::rhs `tail`).
+struct EvapTail {
+    q_ws: f32,
+    q_us: f32,
+    q_sb: f32,
+    q_wu: f32,
+    m_strat: f32,
+    out_s: f32,
+    mix_w: f32,
+    h_ls: f32,
+    h_lb: f32,
+    h_fg: f32,
+    h_vap_gas: f32,
+    vent: f32,
+    y: f32,
+    press: f32,
+    h_press: f32,
+    h_u: f32,
+    pu: f32,
+    dv_b: f32,
+    dv_slosh: f32,
+    t_s: f32,
+    rho_s: f32,
+    /// c_p,l and dP_sat/dT at T_s, evaluated once per right-hand side.
+    cp_s: f32,
+    dpsat_dt: f32,
+}
+
+/// [dm_v, dm_s, dH_s, dU_u, dV_s] at evaporation rate m.
+fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
+    let e_evap = max(m, 0.0) * (c.h_ls + c.h_fg) + min(m, 0.0) * c.h_vap_gas;
+    let dm_v = m - c.vent * c.y;
+    let dm_s = -m + c.m_strat - c.out_s;
+    let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_lb - c.mix_w - c.out_s * c.h_ls;
+    let rs = liquid_node_rates(c.pu, f_s, dm_s, c.t_s, c.rho_s);
+    let du_u = c.q_wu - c.q_us + e_evap + c.press * c.h_press - c.vent * c.h_u
+        + c.pu * (rs.y + c.dv_b) - c.pu * c.dv_slosh;
+    return array<f32, 5>(dm_v, dm_s, rs.x, du_u, rs.y);
+}
+
+/// d(P_sat(T_s) − P_v)/dt along the rates r of evap_tail (chain rule through derive_nodes).
+fn evap_dp_rate(s: ptr<function, St>, x: Derived, c: EvapTail, r: array<f32, 5>, dm_g: f32) -> f32 {
+    let heat_cap = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
+    let dt_s = (r[2] - c.h_ls * r[1]) / (max((*s)[M_S], 1.0e-9) * c.cp_s);
+    let dt_u = (r[3] - r[0] * FL.vapor_offset - x.t_u * (r[0] * FL.cv_vapor + dm_g * HE.cv)) / heat_cap;
+    let dv_u = c.dv_slosh - r[4] - c.dv_b;
+    let dp_v = ((r[0] * x.t_u + (*s)[M_V] * dt_u) * fl_r_specific() - x.p_v * dv_u) / x.v_u;
+    return c.dpsat_dt * dt_s - dp_v;
+}
+
+/// The stiff evaporation rate of one side's J (nodes::implicit_evaporation).
+fn evap_rate(kd: vec2<f32>, dt: f32, forcing: f32, j: f32) -> f32 {
+    let aw = stiff_blend(dt * kd.x * j);
+    return kd.x * (aw.x * kd.y + aw.y * dt * forcing);
+}
+
+/// The stiff evaporation rate with its forcing, J on each side (nodes::implicit_evaporation).
+fn implicit_evaporation(s: ptr<function, St>, x: Derived, c: EvapTail, kd: vec2<f32>, dt: f32, dm_g: f32) -> f32 {
+    let forcing = evap_dp_rate(s, x, c, evap_tail(c, 0.0), dm_g);
+    let j_evap = max(forcing - evap_dp_rate(s, x, c, evap_tail(c, 1.0), dm_g), 0.0);
+    let j_cond = max(evap_dp_rate(s, x, c, evap_tail(c, -1.0), dm_g) - forcing, 0.0);
+    let m = max(evap_rate(kd, dt, forcing, j_evap), 0.0) + min(evap_rate(kd, dt, forcing, j_cond), 0.0);
+    EVAP_RELAX = kd.x * select(j_cond, j_evap, m >= 0.0);
+    return m;
+}
+
+/// Lumped / two_mode right-hand side into ds; returns the lateral slosh force.
+fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<function, St>) -> f32 {
+    let t_u = x.t_u;
+    let t_s = x.t_s;
+    let t_b = x.t_b;
+    let a_i = x.a_i;
+    let r_surf = max(tank_surface_radius(x.level), 1.0e-3);
+    let a_tot = tank_wall_area();
+    let a_wet = a_tot * x.wet;
+    let a_dry = a_tot * (1.0 - x.wet);
+    let speed = slosh_speed(s, x);
+
+    let liq = liquid_props(t_b);
+    let gas = gas_props(s, x);
+    let h_w = wall_coefficients(x, liq, gas, t_b, t_u);
+    let h_wl = h_w.x;
+    let h_wu = h_w.y;
+    let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
+    let bulk_gone = (*s)[M_B] <= 0.0;
+    let c_bulk = max(select((*s)[M_B], (*s)[M_S], bulk_gone), 1.0e-9) * liq.cp;
+    let c_gas = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
+    let warming = P.heat_leak_w / c_wall;
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b, warming);
+    let depth = x.v_s / a_i;
+    let a_ws = clamp(a_wet - tank_wetted_area(x.level - depth), 0.0, a_wet);
+    let contact = a_ws / max(a_wet, 1.0e-12);
+    let to_layer = select(contact + P.wall_heat_to_layer * (1.0 - contact), 1.0, bulk_gone);
+    let q_ws = to_layer * q_wl;
+    let q_wb = (1.0 - to_layer) * q_wl;
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas, x.t_wd - t_u, warming);
+
+    var h_us = P.h_us;
+    if ((P.flags & FLAG_H_US) == 0u) {
+        h_us = h_stable_interface(gas, x.a_ax, t_u - t_s, 0.5 * r_surf);
+    }
+    h_us += P.coupling_h * speed;
+    let q_us = h_us * a_i * (t_u - t_s);
+    var h_sb0 = 0.0;
+    if ((P.flags & FLAG_H_SB) != 0u) {
+        h_sb0 = P.h_sb;
+    }
+    let h_sb = h_sb0 + h_unstable_interface(liq, x.a_ax, t_b - t_s, 0.5 * r_surf) + P.coupling_h * speed;
+    let q_sb = h_sb * a_i * (t_s - t_b);
+
+    let alpha = P.diffusivity_factor * fl_k_l(t_s) / (x.rho_s * fl_cp_l(t_s));
+    let delta = max((*s)[M_S] / (x.rho_s * a_i), 1.0e-6);
+    let bulk_left = clamp((*s)[M_B] / (BULK_MERGE_FRACTION * ((*s)[M_B] + (*s)[M_S]) + 1.0e-9), 0.0, 1.0);
+    let m_strat = x.rho_s * a_i * PI * alpha / (8.0 * delta) * bulk_left;
+    let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left;
+
+    let b = boundary_flows(s, d, x);
+    let h_mass = h_us / (gas.rho * gas.cp);
+    let kd = evaporation_driving(s, x, h_mass);
+    let out_b = b.out * bulk_left;
+    let out_s = b.out * (1.0 - bulk_left);
+
+    let h_ls = fl_h_l(t_s);
+    let h_lb = fl_h_l(t_b);
+    let h_vap_gas = FL.cp_vapor * t_u + FL.vapor_offset;
+    let y = b.y;
+    let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
+    let h_press = helium_inlet_enthalpy();
+    let pu = x.p_u;
+
+    (*ds)[M_G] = b.press - b.vent * (1.0 - y);
+    (*ds)[M_B] = -m_strat - out_b;
+    let mix_w = m_mix * (h_ls - h_lb);
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
+    let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
+    (*ds)[H_B] = rb.x;
+    let force = motion_rates(s, d, x, ds);
+    let angle = slosh_angle(s, x.sl);
+    let dv_slosh = P.coupling_volume_m3 * cos(angle) * slosh_angle_rate(s, x);
+
+    var c: EvapTail;
+    c.q_ws = q_ws;
+    c.q_us = q_us;
+    c.q_sb = q_sb;
+    c.q_wu = q_wu;
+    c.m_strat = m_strat;
+    c.out_s = out_s;
+    c.mix_w = mix_w;
+    c.h_ls = h_ls;
+    c.h_lb = h_lb;
+    c.h_fg = fl_h_fg(t_s);
+    c.h_vap_gas = h_vap_gas;
+    c.vent = b.vent;
+    c.y = y;
+    c.press = b.press;
+    c.h_press = h_press;
+    c.h_u = h_u;
+    c.pu = pu;
+    c.dv_b = rb.y;
+    c.dv_slosh = dv_slosh;
+    c.t_s = t_s;
+    c.rho_s = x.rho_s;
+    c.cp_s = fl_cp_l(t_s);
+    c.dpsat_dt = fl_dpsat_dt(t_s);
+    let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
+    EVAP_RATE = m_evap;
+    let r = evap_tail(c, m_evap);
+    (*ds)[M_V] = r[0];
+    (*ds)[M_S] = r[1];
+    (*ds)[H_S] = r[2];
+    (*ds)[U_U] = r[3];
+    let rs = vec2<f32>(r[2], r[4]);
+
+    wall_rates(x, q_wl, q_wu, rs.y + rb.y, ds);
+    boundary_ledger(b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
+    (*ds)[E_WORK] = -pu * dv_slosh;
+    return force;
+}
+
+/// Homogeneous right-hand side into ds; returns the slosh force (none at this level).
+fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<function, St>) -> f32 {
+    let t = x.t_b;
+    let a_tot = tank_wall_area();
+    let a_wet = a_tot * x.wet;
+    let a_dry = a_tot * (1.0 - x.wet);
+    let rho = x.rho_b;
+    let liq = liquid_props(t);
+    let gas = gas_props(s, x);
+    let m_u = x.m_v + (*s)[M_G];
+    let h_w = wall_coefficients(x, liq, gas, t, t);
+    let h_wl = h_w.x;
+    let h_wu = h_w.y;
+    let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
+    let c_fluid = x.m_l * liq.cp + m_u * FL.cv_vapor;
+    let warming = P.heat_leak_w / c_wall;
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_fluid, x.t_ww - t, warming);
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid, x.t_wd - t, warming);
+
+    var sv = *s;
+    sv[M_V] = x.m_v;
+    let b = boundary_flows(&sv, d, x);
+    let h_v = FL.cp_vapor * t + FL.vapor_offset;
+    let h_u = b.y * h_v + (1.0 - b.y) * HE.cp * t;
+    let h_l = fl_h_l(t);
+    let h_press = helium_inlet_enthalpy();
+
+    (*ds)[M_B] = -b.out - b.vent * b.y;
+    (*ds)[M_G] = b.press - b.vent * (1.0 - b.y);
+    (*ds)[H_B] = q_wl + q_wu + b.press * h_press - b.vent * h_u - b.out * h_l;
+    let force = motion_rates(s, d, x, ds);
+    wall_rates(x, q_wl, q_wu, (*ds)[M_B] / rho, ds);
+    boundary_ledger(b, h_press, h_u, b.out * h_l, ds);
+    return force;
+}
