@@ -129,7 +129,7 @@ fn check_plots(report: &Path) -> Vec<String> {
             }
             "spearman" => assert!(svg.contains("Spearman ρ (1)"), "{name}: no ρ axis"),
             "sobol" => assert!(svg.contains("Sobol index (1)"), "{name}: no index axis"),
-            "worst" => {
+            "worst" | "worst2" | "worst3" => {
                 for axis in [
                     "time_s (s)",
                     "pressure_pa (Pa)",
@@ -138,7 +138,11 @@ fn check_plots(report: &Path) -> Vec<String> {
                 ] {
                     assert!(svg.contains(axis), "{name} has no axis {axis}");
                 }
-                let title = format!("worst {column}: instance");
+                let title = match kind {
+                    "worst2" => format!("2nd worst {column}: instance"),
+                    "worst3" => format!("3rd worst {column}: instance"),
+                    _ => format!("worst {column}: instance"),
+                };
                 let suffix = format!(" {}", unit(column));
                 assert!(
                     svg.lines()
@@ -166,6 +170,8 @@ fn report_of_a_run_labels_every_plot_and_references_only_existing_files() {
         "spearman_peak_pressure_pa.svg",
         "scatter_peak_pressure_pa.svg",
         "worst_peak_pressure_pa.svg",
+        "worst2_peak_pressure_pa.svg",
+        "worst3_peak_pressure_pa.svg",
         "worst_boiloff_kg.svg",
     ] {
         assert!(

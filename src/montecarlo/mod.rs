@@ -547,13 +547,18 @@ fn finish_statistics(
 }
 
 fn progress_bar(enabled: bool, len: u64) -> indicatif::ProgressBar {
+    progress_bar_of(enabled, len, "instances")
+}
+
+/// A progress bar on stderr over `len` items called `what` (hidden when `enabled` is false or
+/// stderr is not a terminal).
+pub fn progress_bar_of(enabled: bool, len: u64, what: &str) -> indicatif::ProgressBar {
     if !enabled || !std::io::stderr().is_terminal() {
         return indicatif::ProgressBar::hidden();
     }
     let bar = indicatif::ProgressBar::new(len);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{bar:40} {pos}/{len} instances  {per_sec}  ETA {eta}",
-    ) {
+    let template = format!("{{bar:40}} {{pos}}/{{len}} {what}  {{per_sec}}  ETA {{eta}}");
+    if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
         bar.set_style(style);
     }
     bar

@@ -259,12 +259,14 @@ fn probabilities(h: &mut String, p: &Page) {
 }
 
 fn worst(h: &mut String, p: &Page) {
-    h.push_str(
-        "<h2 id=\"worst\">Worst cases</h2>\n<p class=\"note\">The instance with the worst value \
-         of each headline QoI (largest; smallest for a <code>min_</code> margin), integrated \
+    let _ = writeln!(
+        h,
+        "<h2 id=\"worst\">Worst cases</h2>\n<p class=\"note\">The {} instances with the worst \
+         values of each headline QoI (largest; smallest for a <code>min_</code> margin), integrated \
          again on the CPU from the run's metadata (exact replay, as <code>simulate --run DIR \
          --instance I</code>). Grey vertical lines: phase boundaries; shaded: relief valve \
-         open.</p>\n",
+         open.</p>",
+        super::worst::WORST_PER_QOI
     );
     for n in p.worst_notes {
         let _ = writeln!(h, "<p class=\"note\">{}</p>", escape(n));
@@ -272,8 +274,9 @@ fn worst(h: &mut String, p: &Page) {
     for w in p.worst {
         let _ = writeln!(
             h,
-            "<h3><code>{}</code>: instance {} ({} {})</h3>",
+            "<h3><code>{}</code> #{}: instance {} ({} {})</h3>",
             escape(&w.qoi),
+            w.rank,
             w.instance,
             num(w.value),
             escape(unit_of(&w.qoi))

@@ -1,4 +1,4 @@
-//! Worst cases: the instance with the worst value of each headline QoI, integrated again by the
+//! Worst cases: the instances with the worst values of each headline QoI, integrated again by the
 //! run's exact replay (`simulate --run DIR --instance I`), drawn as stacked time histories —
 //! pressure against MEOP and the relief crack, the four temperatures, fill level, slosh angle and
 //! cavitation margin — with phase boundaries and relief-valve openings marked.
@@ -16,7 +16,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
-/// The QoIs whose worst instance is re-simulated: at most this many replays per report.
+/// The QoIs whose worst instances are re-simulated ([`WORST_PER_QOI`] each).
 pub const HEADLINE: [&str; 4] = [
     "peak_pressure_pa",
     "boiloff_kg",
@@ -24,10 +24,26 @@ pub const HEADLINE: [&str; 4] = [
     "max_slosh_angle_rad",
 ];
 
+/// Instances re-simulated per headline QoI: the worst and its runners-up, so that a designer
+/// sees whether the worst is alone or one of a kind.
+pub const WORST_PER_QOI: usize = 3;
+
+/// "worst", "2nd worst", "3rd worst", …
+fn ordinal(rank: usize) -> String {
+    match rank {
+        0 => "worst".into(),
+        1 => "2nd worst".into(),
+        2 => "3rd worst".into(),
+        n => format!("{}th worst", n + 1),
+    }
+}
+
 /// One worst case drawn.
 #[derive(Clone, Debug)]
 pub struct WorstCase {
     pub qoi: String,
+    /// 1 for the worst instance of `qoi`, 2 for the next, …
+    pub rank: usize,
     pub instance: u64,
     pub value: f64,
     /// The SVG file name in the report directory.
@@ -48,23 +64,30 @@ pub fn worst_cases(
     for q in qois {
         let v = table::read_f64(&path, q).map_err(|e| ReportError::read(&path, e))?;
         let smallest = worst_is_smallest(q);
-        let best = (0..v.len()).filter(|&r| v[r].is_finite()).reduce(|a, b| {
-            let better = if smallest { v[b] < v[a] } else { v[b] > v[a] };
-            if better {
-                b
-            } else {
-                a
-            }
+        let mut rows: Vec<usize> = (0..v.len()).filter(|&r| v[r].is_finite()).collect();
+        // Worst first; ties by instance index (as `run --histories worst:`).
+        rows.sort_by(|&a, &b| {
+            let order = v[a].total_cmp(&v[b]);
+            let order = if smallest { order } else { order.reverse() };
+            order.then(ids[a].cmp(&ids[b]))
         });
-        if let Some(r) = best {
-            picks.push((q.clone(), ids[r], v[r]));
+        for (rank, &r) in rows.iter().take(WORST_PER_QOI).enumerate() {
+            picks.push((q.clone(), rank, ids[r], v[r]));
         }
     }
     drop(ids);
     let mut drawn = Vec::new();
     let mut notes = Vec::new();
-    for (k, (q, i, value)) in picks.iter().enumerate() {
-        if progress {
+    let bar = crate::montecarlo::progress_bar_of(
+        progress,
+        picks.len() as u64,
+        "worst cases re-simulated",
+    );
+    // A bar on a terminal; a line per re-simulation in a log.
+    let lines = progress && !std::io::IsTerminal::is_terminal(&std::io::stderr());
+    for (k, (q, rank, i, value)) in picks.iter().enumerate() {
+        bar.inc(1);
+        if lines {
             eprintln!(
                 "report: re-simulating worst case {}/{} (instance {i}, {q})",
                 k + 1,
@@ -93,9 +116,14 @@ pub fn worst_cases(
             Ok(Some(c)) => c.params,
             _ => run.campaign.params,
         };
-        let file = format!("worst_{}.svg", super::file_stem(q));
+        // The worst keeps the plain name; the runners-up are numbered from 2 (`worst2_…`).
+        let file = match rank {
+            0 => format!("worst_{}.svg", super::file_stem(q)),
+            n => format!("worst{}_{}.svg", n + 1, super::file_stem(q)),
+        };
         let title = format!(
-            "worst {q}: instance {i}, {} {}",
+            "{} {q}: instance {i}, {} {}",
+            ordinal(*rank),
             fmt_tick(*value),
             unit_of(q)
         );
@@ -106,11 +134,13 @@ pub fn worst_cases(
         draw_history(&out.join(&file), &title, &h, &lines)?;
         drawn.push(WorstCase {
             qoi: q.clone(),
+            rank: *rank + 1,
             instance: *i,
             value: *value,
             file,
         });
     }
+    bar.finish_and_clear();
     Ok((drawn, notes))
 }
 
