@@ -190,7 +190,13 @@ fn gpu_matches_cpu_on_every_campaign_and_level() {
     let cpu = CpuEngine::new(0).unwrap();
     for name in CAMPAIGNS {
         for level in LEVELS {
-            let c = load(name, &[&format!("campaign.fidelity={level}")]);
+            let c = load(
+                name,
+                &[
+                    &format!("campaign.fidelity={level}"),
+                    "campaign.integrator=rk4",
+                ],
+            );
             let n = instances(name);
             let plan = Plan {
                 campaign: &c,
