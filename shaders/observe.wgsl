@@ -237,3 +237,33 @@ fn save_last(r: ptr<function, GpuResult>, x: Derived) {
     (*r).p_ullage_pa = x.p_u;
     (*r).m_liquid_kg = x.m_l;
 }
+
+/// Load instance `i`'s parameters into the per-invocation globals (P, FL, HE, TANK).
+fn load_instance(i: u32) {
+    P = params[i];
+    FL = fluid[0];
+    HE = gas[0];
+    TANK = P.tank;
+}
+
+/// The instance at t = 0 (both kernels): its initial state into `hi` + `lo`, evaluated with
+/// step `dt` and observed once in its first phase record `base`. Returns that evaluation.
+fn start_instance(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>, base: u32, dt: f32) -> Eval {
+    for (var j = 0u; j < NS; j++) {
+        (*hi)[j] = P.s0_hi[j];
+        (*lo)[j] = P.s0_lo[j];
+    }
+    (*r).started = 1u;
+    (*r).peak_pressure_pa = -3.4e38;
+    (*r).min_pressure_pa = 3.4e38;
+    let d0 = phase_drive(phases[base], 0.0, false);
+    let ev0 = evaluate(hi, d0, dt);
+    (*r).m_vapor0_kg = ev0.x.m_v;
+    (*r).m_liquid0_kg = ev0.x.m_l;
+    save_last(r, ev0.x);
+    (*r).last_angle_rad = abs(slosh_angle(hi, ev0.x.sl));
+    enter_phase(base, r, hi, lo);
+    PHASE_SLOT = base;
+    observe(r, hi, 0.0, ev0, d0);
+    return ev0;
+}

@@ -15,10 +15,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (r.done != 0u) {
         return;
     }
-    P = params[i];
-    FL = fluid[0];
-    HE = gas[0];
-    TANK = P.tank;
+    load_instance(i);
     let base = i * P.n_phases;
 
     // Element-wise copies: naga types a struct member's array apart from the function-scope St.
@@ -26,23 +23,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var lo: St;
     var k1: St;
     if (r.started == 0u) {
-        for (var j = 0u; j < NS; j++) {
-            hi[j] = P.s0_hi[j];
-            lo[j] = P.s0_lo[j];
-        }
-        r.started = 1u;
-        r.peak_pressure_pa = -3.4e38;
-        r.min_pressure_pa = 3.4e38;
-        let ph0 = phases[base];
-        let d0 = phase_drive(ph0, 0.0, false);
-        let ev0 = evaluate(&hi, d0, ph0.dt);
-        r.m_vapor0_kg = ev0.x.m_v;
-        r.m_liquid0_kg = ev0.x.m_l;
-        save_last(&r, ev0.x);
-        r.last_angle_rad = abs(slosh_angle(&hi, ev0.x.sl));
-        enter_phase(base, &r, &hi, &lo);
-        PHASE_SLOT = base;
-        observe(&r, &hi, 0.0, ev0, d0);
+        start_instance(&r, &hi, &lo, base, phases[base].dt);
     } else {
         for (var j = 0u; j < NS; j++) {
             hi[j] = r.s_hi[j];

@@ -526,6 +526,8 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
     let mut h = History::default();
     let (run, record) = montecarlo::replay::replay(dir, i, Some(&mut h))?;
     let c = &run.campaign;
+    // Compared first: an instance the file does not hold (another shard's) writes nothing.
+    let diffs = montecarlo::replay::compare_row(dir, c, &record)?;
     for (input, v) in c.dispersions.inputs.iter().zip(&record.inputs) {
         outln!("{} = {v}", input.key);
     }
@@ -541,7 +543,6 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
         outln!("{}", simulate::describe_summary(q));
         outln!("{} steps; {rows} rows → {}", q.steps, out.display());
     }
-    let diffs = montecarlo::replay::compare_row(dir, c, &record)?;
     let row = format!("row {i} of {}", dir.join("instances.parquet").display());
     if diffs.is_empty() {
         outln!("replay equals {row} bit for bit");

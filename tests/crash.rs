@@ -11,20 +11,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cryoslosh-crash-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch_in("crash", name)
 }
 
 fn cryoslosh(args: &[&str], failpoint: Option<&str>) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_cryoslosh"));
-    cmd.args(args);
-    match failpoint {
-        Some(f) => cmd.env("CRYOSLOSH_FAILPOINT", f),
-        None => cmd.env_remove("CRYOSLOSH_FAILPOINT"),
-    };
-    cmd.output().unwrap()
+    common::cryoslosh_at(args, failpoint)
 }
 
 /// Every file under `dir` (relative path → bytes); `run.json` reduced to its seed (its wall

@@ -191,6 +191,10 @@ fn phases_never_entered_are_nulls_in_the_instances_file() {
 #[test]
 fn phase_names_must_be_unique_column_suffixes() {
     let base = std::fs::read_to_string(campaign_path("mhtb_selfpress")).unwrap();
+    let long = format!(
+        "\n[[phases]]\nname = \"{}\"\nkind = \"hold\"\nduration_s = 10.0\n",
+        "a".repeat(65)
+    );
     for (extra, key, why) in [
         (
             "\n[[phases]]\nname = \"lockup\"\nkind = \"hold\"\nduration_s = 10.0\n",
@@ -207,6 +211,17 @@ fn phase_names_must_be_unique_column_suffixes() {
             "phases.1.name",
             "not a number",
         ),
+        (
+            "\n[[phases]]\nname = \"-1e3\"\nkind = \"hold\"\nduration_s = 10.0\n",
+            "phases.1.name",
+            "not a number",
+        ),
+        (
+            "\n[[phases]]\nname = \"LOCKUP\"\nkind = \"hold\"\nduration_s = 10.0\n",
+            "phases.1.name",
+            "ignoring case",
+        ),
+        (long.as_str(), "phases.1.name", "1 to 64"),
     ] {
         let err = Campaign::from_text(Path::new("x.toml"), &(base.clone() + extra), &[])
             .unwrap_err()

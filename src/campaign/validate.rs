@@ -587,9 +587,14 @@ fn stepping(c: &Checker, run: &RawRun) -> Result<Stepping, CampaignError> {
     })
 }
 
+/// Longest phase name: it becomes part of column names and of the report's file names.
+pub const MAX_PHASE_NAME_LEN: usize = 64;
+
 /// Phase names label the per-phase QoI columns (`peak_pressure_pa.burn`) and address phases in
-/// key paths (`phases.burn.thrust_n`): each must be unique, made of letters, digits, `_` and
-/// `-`, and not a number (a number is an index).
+/// key paths (`phases.burn.thrust_n`): each must be unique ignoring case (DuckDB's column names
+/// and some file systems ignore it), made of at most [`MAX_PHASE_NAME_LEN`] letters, digits, `_`
+/// and `-`, and not a number (a number is an index). An unnamed phase's default name (its kind
+/// and index, `coast1`) counts too.
 fn phase_names(c: &Checker, phases: &[Phase]) -> Result<(), CampaignError> {
     for (i, ph) in phases.iter().enumerate() {
         let key = format!("phases.{i}.name");
@@ -597,18 +602,30 @@ fn phase_names(c: &Checker, phases: &[Phase]) -> Result<(), CampaignError> {
         let word = name
             .chars()
             .all(|ch| ch.is_ascii_alphanumeric() || ch == '_' || ch == '-');
-        if name.is_empty() || !word || name.parse::<u64>().is_ok() {
+        if name.is_empty()
+            || name.len() > MAX_PHASE_NAME_LEN
+            || !word
+            || name.parse::<f64>().is_ok()
+        {
             return Err(c.err(
                 &key,
                 format!("{name:?}"),
-                "a name of ASCII letters, digits, '_' and '-' that is not a number",
+                format!(
+                    "a name of 1 to {MAX_PHASE_NAME_LEN} ASCII letters, digits, '_' and '-' that is not a number"
+                ),
             ));
         }
-        if let Some(j) = phases[..i].iter().position(|o| o.name == *name) {
+        if let Some(j) = phases[..i]
+            .iter()
+            .position(|o| o.name.eq_ignore_ascii_case(name))
+        {
             return Err(c.err(
                 &key,
                 format!("{name:?}"),
-                format!("a name no other phase has (phases.{j} is also {name:?})"),
+                format!(
+                    "a name no other phase has, ignoring case (phases.{j} is {:?}; an unnamed phase is called by its kind and index)",
+                    phases[j].name
+                ),
             ));
         }
     }

@@ -268,6 +268,12 @@ fn worst(h: &mut String, p: &Page) {
          open.</p>",
         super::worst::WORST_PER_QOI
     );
+    if p.info.device.starts_with("gpu") {
+        h.push_str(
+            "<p class=\"note\">This run was integrated on the GPU in f32: the CPU's f64 replay \
+             differs from its row in the last digits (and, under dopri5, in its step count).</p>\n",
+        );
+    }
     for n in p.worst_notes {
         let _ = writeln!(h, "<p class=\"note\">{}</p>", escape(n));
     }

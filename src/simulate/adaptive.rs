@@ -253,10 +253,10 @@ impl LaneRun<'_> {
         let start = self.phase_start_s;
         let before = self.margin_prev;
         self.cavitation_events(
-            start + t0,
+            (start + t0, mission),
             margin,
             ev_end.derived.p_ullage_pa,
-            |lane, onset| {
+            |lane, onset, _| {
                 let sign = if onset { -1.0 } else { 1.0 };
                 let g = |s: &State, x: &crate::model::derive::Derived| {
                     sign * super::cavitation_margin(p, s, x).0

@@ -410,40 +410,55 @@ impl<'a> LaneRun<'a> {
         merged
     }
 
-    /// Cavitation onset or end between the last observation (mission time `t0`) and this one,
-    /// where the margin is `margin` (None: the engine does not draw) and the ullage
-    /// pressure `pressure_pa`. `locate(onset)` gives the time the margin crossed zero inside
-    /// the step. A draw that starts cavitating (at a phase start) begins it at `t0`; one that
-    /// stops while cavitating ends it at `t0`.
+    /// Cavitation onset or end between the last observation (mission time `t0`) and this one
+    /// at `t1`, where the margin is `margin` (None: the engine does not draw) and the ullage
+    /// pressure `pressure_pa`. `locate(onset, margin_before)` gives the time the margin crossed
+    /// zero inside the step; the event's pressure is interpolated between the step's ends. A
+    /// draw that starts cavitating (at a phase start) begins it at `t0`; the end of a draw while
+    /// cavitating is [`Self::end_draw`]'s.
     fn cavitation_events(
         &mut self,
-        t0: f64,
+        (t0, t1): (f64, f64),
         margin: Option<f64>,
         pressure_pa: f64,
-        locate: impl FnOnce(&mut Self, bool) -> f64,
+        locate: impl FnOnce(&mut Self, bool, f64) -> f64,
     ) {
         let before = self.margin_prev;
         self.margin_prev = margin;
         if self.events.is_none() {
             return;
         }
+        let p0 = self.last.derived.p_ullage_pa;
+        let at = |t: f64| {
+            if t1 > t0 {
+                p0 + (pressure_pa - p0) * ((t - t0) / (t1 - t0))
+            } else {
+                pressure_pa
+            }
+        };
         match (before, margin) {
             (Some(a), Some(b)) if a >= 0.0 && b < 0.0 => {
-                let t = locate(self, true);
-                self.record(t, EventKind::CavitationOnset, pressure_pa, f64::NAN);
+                let t = locate(self, true, a);
+                self.record(t, EventKind::CavitationOnset, at(t), f64::NAN);
             }
             (Some(a), Some(b)) if a < 0.0 && b >= 0.0 => {
-                let t = locate(self, false);
-                self.record(t, EventKind::CavitationEnd, pressure_pa, f64::NAN);
+                let t = locate(self, false, a);
+                self.record(t, EventKind::CavitationEnd, at(t), f64::NAN);
             }
             (None, Some(b)) if b < 0.0 => {
                 // The draw began at the step's start (a phase start) already cavitating.
-                self.record(t0, EventKind::CavitationOnset, pressure_pa, f64::NAN);
-            }
-            (Some(a), None) if a < 0.0 => {
-                self.record(t0, EventKind::CavitationEnd, pressure_pa, f64::NAN);
+                self.record(t0, EventKind::CavitationOnset, p0, f64::NAN);
             }
             _ => {}
+        }
+    }
+
+    /// The engine's draw ends now (a phase end, the tank dry, the mission's end): a cavitation
+    /// going on ends with it, in the phase that drew, at the last good state's pressure.
+    fn end_draw(&mut self) {
+        if self.margin_prev.take().is_some_and(|m| m < 0.0) {
+            let pressure = self.last.derived.p_ullage_pa;
+            self.record(self.t, EventKind::CavitationEnd, pressure, f64::NAN);
         }
     }
 
@@ -533,8 +548,8 @@ impl<'a> LaneRun<'a> {
         let pressure = ev.derived.p_ullage_pa;
         let margin = d.burning.then(|| cavitation_margin(p, s, &ev.derived).0);
         let t0 = t - self.dt;
-        self.cavitation_events(t0, margin, pressure, |l, _| {
-            t0 + crossing(l.margin_prev.unwrap_or(0.0), margin.unwrap_or(0.0), 0.0) * (t - t0)
+        self.cavitation_events((t0, t), margin, pressure, |_, _, before| {
+            t0 + crossing(before, margin.unwrap_or(0.0), 0.0) * (t - t0)
         });
         let before = self.valve;
         self.valve = model::update_valve(Group::one(p), pressure, self.valve);
@@ -576,6 +591,7 @@ impl<'a> LaneRun<'a> {
     /// Move to the next phase from the last good state: the phase that ends is closed there and
     /// the next one starts there.
     fn next_phase(&mut self) {
+        self.end_draw();
         let pressure = self.last.derived.p_ullage_pa;
         self.record(self.t, EventKind::PhaseEnd, pressure, f64::NAN);
         let (s, x) = (&self.last_state, &self.last.derived);
@@ -590,6 +606,7 @@ impl<'a> LaneRun<'a> {
         let m_vapor0 = initial_vapor_mass(p, &self.s0);
         let end = self.diverged_state.unwrap_or(self.last_state);
         self.tracker.close_phase(&end, self.last.derived.m_vapor_kg);
+        self.end_draw();
         let pressure = self.last.derived.p_ullage_pa;
         self.record(self.t, EventKind::PhaseEnd, pressure, f64::NAN);
         let mut q = self.tracker.summary;

@@ -69,3 +69,24 @@ pub fn python_with(modules: &str) -> bool {
     }
     have
 }
+
+/// A fresh scratch directory for test binary `tag`'s case `name` (removed first if a previous
+/// run left it).
+pub fn scratch_in(tag: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cryoslosh-{tag}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Run the cryoslosh binary with `args`, killed at `failpoint` (the `CRYOSLOSH_FAILPOINT` test
+/// hook) when one is given.
+pub fn cryoslosh_at(args: &[&str], failpoint: Option<&str>) -> std::process::Output {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_cryoslosh"));
+    cmd.args(args);
+    match failpoint {
+        Some(f) => cmd.env("CRYOSLOSH_FAILPOINT", f),
+        None => cmd.env_remove("CRYOSLOSH_FAILPOINT"),
+    };
+    cmd.output().unwrap()
+}
