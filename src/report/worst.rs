@@ -1,7 +1,8 @@
 //! Worst cases: the instances with the worst values of each headline QoI, integrated again by the
 //! run's exact replay (`simulate --run DIR --instance I`), drawn as stacked time histories —
 //! pressure against MEOP and the relief crack, the four temperatures, fill level, slosh angle and
-//! cavitation margin — with phase boundaries and relief-valve openings marked.
+//! cavitation margin — with phase boundaries, relief-valve openings and the outcome events
+//! (cavitation onset and end, tank dry, pressurant exhausted, bulk merged) marked.
 
 use super::data::{label, unit_of, RunInfo};
 use super::plots::{
@@ -127,9 +128,26 @@ pub fn worst_cases(
             fmt_tick(*value),
             unit_of(q)
         );
+        use crate::simulate::events::EventKind as K;
         let lines = Limits {
             meop_pa: params.meop_pa,
             crack_pa: params.relief.as_ref().map(|r| r.crack_pa),
+            events: record
+                .summary
+                .events
+                .iter()
+                .filter(|e| {
+                    matches!(
+                        e.kind,
+                        K::CavitationOnset
+                            | K::CavitationEnd
+                            | K::Depleted
+                            | K::PressurantExhausted
+                            | K::BulkMerged
+                    )
+                })
+                .map(|e| e.time_s)
+                .collect(),
         };
         draw_history(&out.join(&file), &title, &h, &lines)?;
         drawn.push(WorstCase {
@@ -151,7 +169,13 @@ const OPEN_VALVE: RGBColor = RGBColor(245, 214, 190);
 struct Limits {
     meop_pa: f64,
     crack_pa: Option<f64>,
+    /// Times of the instance's outcome events (cavitation onset and end, tank dry, pressurant
+    /// exhausted, bulk merged; `simulate::events`), s, marked in every panel.
+    events: Vec<f64>,
 }
+
+/// The colour of the outcome-event marks (black: distinct from every series).
+const EVENT: RGBColor = RGBColor(0, 0, 0);
 
 /// One panel of the stacked time history.
 struct Panel<'a> {
@@ -319,12 +343,15 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
             .y_label_area_size(88)
             .build_cartesian_2d(t_range.clone(), padded(lo2, hi2 + headroom))
             .map_err(&e)?;
+        // A tick at zero computed as lo + k·step can land a rounding error off it (−2.8e-17).
+        let y_scale = lo2.abs().max(hi2.abs()).max(f64::MIN_POSITIVE);
+        let y_tick = move |v: &f64| fmt_tick(if v.abs() < 1e-9 * y_scale { 0.0 } else { *v });
         let mut mesh = chart.configure_mesh();
         mesh.y_desc(panel.y_desc.as_str())
             .x_labels(10)
             .y_labels(5)
             .x_label_formatter(&|v| fmt_tick(*v))
-            .y_label_formatter(&|v| fmt_tick(*v))
+            .y_label_formatter(&y_tick)
             .label_style(font(13.0))
             .axis_desc_style(font(15.0))
             .light_line_style(TRANSPARENT)
@@ -348,6 +375,25 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
                 Rectangle::new([(a, y0), (b, y1)], OPEN_VALVE.filled())
             }))
             .map_err(&e)?;
+        chart
+            .draw_series(
+                limits
+                    .events
+                    .iter()
+                    .map(|&te| PathElement::new(vec![(te, y0), (te, y1)], EVENT.stroke_width(1))),
+            )
+            .map_err(&e)?;
+        if !limits.events.is_empty() && k == 0 {
+            let n = limits.events.len();
+            legend.push((
+                format!(
+                    "{n} event{}: cavitation, dry, bottle",
+                    if n == 1 { "" } else { "s" }
+                ),
+                EVENT,
+                false,
+            ));
+        }
         if !open.is_empty() && k == 0 {
             let n = open.len();
             let text = format!(
