@@ -148,3 +148,35 @@ fn run_with_backend_gpu_writes_the_campaign_outputs() {
     assert!(dir.join("statistics.parquet").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The GPU's Dormand–Prince runs in f32: tolerances tighter than the defaults are refused with
+/// exit 2 naming the key (rtol 1e-12 used to run on without end), and events need the CPU.
+#[test]
+fn gpu_refuses_tolerances_below_f32_and_events() {
+    if !have_adapter() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("cryoslosh_gpu_tol_{}", std::process::id()));
+    let path = campaign_path("mhtb_selfpress");
+    for extra in [
+        &["--set", "campaign.integrator=dopri5", "--set", "campaign.rtol=1e-8"][..],
+        &["--events"][..],
+    ] {
+        let mut args = vec![
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+            "--instances",
+            "4",
+            "--backend",
+            "gpu",
+        ];
+        args.extend_from_slice(extra);
+        let o = cryoslosh(&args, &[]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("campaign.rtol") || err.contains("--events"), "{err}");
+        assert!(!dir.exists());
+    }
+}

@@ -262,6 +262,13 @@ fn check_target(c: &Campaign, o: &RunOptions) -> Result<(), RunError> {
     Ok(())
 }
 
+/// Tightest tolerances the GPU's error-controlled kernel accepts: its stages are f32 (machine
+/// epsilon 6e-8), so a tighter relative tolerance is below its own rounding and the steps
+/// collapse (rtol 1e-12 on the LOX ascent had not finished after 170 s on llvmpipe).
+pub const GPU_MIN_RTOL: f64 = 1.0e-6;
+/// See [`GPU_MIN_RTOL`].
+pub const GPU_MIN_ATOL: f64 = 1.0e-9;
+
 /// Most instances one campaign may hold: indices, strata and row counts stay far from overflow
 /// (18446744073709551615 used to lose a row or hang).
 pub const MAX_INSTANCES: u64 = 1_000_000_000_000;
@@ -334,6 +341,20 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
             "--events: events are located on the CPU engine's dense output; run with --backend cpu"
                 .into(),
         ));
+    }
+    let st = &c.stepping;
+    if engine.name() == "gpu"
+        && st.integrator == crate::campaign::Integrator::Dopri5
+        && (st.rtol < GPU_MIN_RTOL || st.atol < GPU_MIN_ATOL)
+    {
+        return Err(RunError::Input(format!(
+            "{}: campaign.rtol = {:e}, campaign.atol = {:e}: the GPU's stages are f32 and hold \
+             at best rtol {GPU_MIN_RTOL:e}, atol {GPU_MIN_ATOL:e} (the defaults); tighter \
+             tolerances run on --backend cpu",
+            c.path.display(),
+            st.rtol,
+            st.atol
+        )));
     }
     let mut staging = Staging::begin(&o.out_dir, o.force, o.resume)?;
     staging.keep_on_failure();
