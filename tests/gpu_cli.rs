@@ -159,7 +159,12 @@ fn gpu_refuses_tolerances_below_f32_and_events() {
     let dir = std::env::temp_dir().join(format!("cryoslosh_gpu_tol_{}", std::process::id()));
     let path = campaign_path("mhtb_selfpress");
     for extra in [
-        &["--set", "campaign.integrator=dopri5", "--set", "campaign.rtol=1e-8"][..],
+        &[
+            "--set",
+            "campaign.integrator=dopri5",
+            "--set",
+            "campaign.rtol=1e-8",
+        ][..],
         &["--events"][..],
     ] {
         let mut args = vec![
@@ -176,7 +181,10 @@ fn gpu_refuses_tolerances_below_f32_and_events() {
         let o = cryoslosh(&args, &[]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{err}");
-        assert!(err.contains("campaign.rtol") || err.contains("--events"), "{err}");
+        assert!(
+            err.contains("campaign.rtol") || err.contains("--events"),
+            "{err}"
+        );
         assert!(!dir.exists());
     }
 }
