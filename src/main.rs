@@ -392,10 +392,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 "wrote {}/{{instances,statistics{}}}.parquet and run.json{}",
                 opts.out_dir.display(),
                 if c.record_events { ",events" } else { "" },
-                if opts.histories.is_empty() {
-                    String::new()
-                } else {
+                if opts.out_dir.join("histories").is_dir() {
                     format!(", time histories in {}/histories", opts.out_dir.display())
+                } else {
+                    String::new()
                 }
             );
             if with_report {

@@ -343,6 +343,18 @@ fn bad_input_exits_2_and_writes_nothing() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(!run.join("index.html").exists());
+    // A run.json that is there but not JSON is bad input, not a blank header.
+    let other = dir.join("other");
+    std::fs::create_dir_all(&other).unwrap();
+    for f in ["instances.parquet", "statistics.parquet"] {
+        std::fs::copy(run.join(f), other.join(f)).unwrap();
+    }
+    std::fs::write(other.join("run.json"), "{").unwrap();
+    let o = cryoslosh(&["report", other.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("run.json"), "{err}");
+    assert!(!other.join("report").exists());
 }
 
 /// The Chromium binary, or None (a failure when CI requires it).

@@ -88,11 +88,18 @@ pub fn run_info(dir: &Path) -> Result<RunInfo, ReportError> {
         .map(|(c, k)| (c.to_string(), k.to_string()))
         .collect();
     let columns = table::read_schema(&path).map_err(|e| ReportError::Input(e.to_string()))?;
-    // run.json is optional: its absence (a hand-copied directory) only blanks header fields.
-    let json: serde_json::Value = std::fs::read_to_string(dir.join("run.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok())
-        .unwrap_or(serde_json::Value::Null);
+    // run.json is optional: its absence (a hand-copied directory) only blanks header fields;
+    // one that is there but not JSON is bad input (the header would silently go blank).
+    let run_json = dir.join("run.json");
+    let json: serde_json::Value = match std::fs::read_to_string(&run_json) {
+        Err(_) => serde_json::Value::Null,
+        Ok(t) => serde_json::from_str(&t).map_err(|e| {
+            ReportError::Input(format!(
+                "{}: not a run's JSON record: {e}",
+                run_json.display()
+            ))
+        })?,
+    };
     let text =
         |key: &str, fallback: String| json[key].as_str().map(str::to_string).unwrap_or(fallback);
     let rows = parquet_rows(&path)?;
