@@ -411,7 +411,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         _ => range.end,
     };
 
-    let bar = progress_bar(o.progress, range.end - range.start);
+    let bar = progress_bar_of(o.progress, range.end - range.start, "instances");
     bar.inc(at - range.start);
     let start = std::time::Instant::now();
     // Double buffering: a writer thread commits block k as a part file while the engine
@@ -565,10 +565,6 @@ fn finish_statistics(
     let rows = statistics::compute(&dir.join("instances.parquet"), &spec)?;
     statistics::write(&dir.join("statistics.parquet"), &rows, meta)?;
     Ok(rows)
-}
-
-fn progress_bar(enabled: bool, len: u64) -> indicatif::ProgressBar {
-    progress_bar_of(enabled, len, "instances")
 }
 
 /// A progress bar on stderr over `len` items called `what` (hidden when `enabled` is false or

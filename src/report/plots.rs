@@ -7,7 +7,8 @@
 
 use super::data::{label, ExceedancePoint, Histogram};
 use super::ReportError;
-use plotters::coord::Shift;
+use plotters::chart::{MeshStyle, SeriesLabelStyle};
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
@@ -25,6 +26,42 @@ pub const BAND: RGBColor = RGBColor(179, 218, 242);
 
 /// Colours of successive threshold lines.
 pub const MARKER_COLOURS: [RGBColor; 4] = [VERMILLION, PURPLE, GREEN, ORANGE];
+
+/// [`fmt_tick`] as a tick-label formatter (a function item: it lives as long as any chart).
+fn tick(v: &f64) -> String {
+    fmt_tick(*v)
+}
+
+/// The report's axes: ticks written by [`fmt_tick`], 14 px labels and 16 px axis names, faint
+/// major grid lines only. A chart sets its own descriptions and label counts after it.
+pub fn mesh_style<'m, 'a, 'b, X, Y, DB>(
+    m: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+) -> &'m mut MeshStyle<'a, 'b, X, Y, DB>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+    DB: DrawingBackend,
+{
+    m.x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .label_style(font(14.0))
+        .axis_desc_style(font(16.0))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(BLACK.mix(0.08))
+}
+
+/// The report's in-chart legend box: translucent white over a grey border, 13 px text.
+pub fn legend_style<'l, 'a, 'b, DB, CT>(
+    l: &'l mut SeriesLabelStyle<'a, 'b, DB, CT>,
+) -> &'l mut SeriesLabelStyle<'a, 'b, DB, CT>
+where
+    DB: DrawingBackend + 'a,
+    CT: CoordTranslate,
+{
+    l.background_style(WHITE.mix(0.9))
+        .border_style(BLACK.mix(0.4))
+        .label_font(font(13.0))
+}
 
 /// A text style of `px` CSS pixels (plotters' SVG backend writes `font-size` as size / 1.24).
 pub fn font(px: f64) -> TextStyle<'static> {
@@ -136,18 +173,11 @@ pub fn histogram(
         .y_label_area_size(78)
         .build_cartesian_2d(xr, 0.0..top)
         .map_err(&e)?;
-    chart
-        .configure_mesh()
+    mesh_style(&mut chart.configure_mesh())
         .x_desc(label(column))
         .y_desc("instances per bin (1)")
         .x_labels(7)
         .y_labels(6)
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
-        .label_style(font(14.0))
-        .axis_desc_style(font(16.0))
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(BLACK.mix(0.08))
         .draw()
         .map_err(&e)?;
     chart
@@ -302,17 +332,10 @@ pub fn exceedance(
         .y_label_area_size(78)
         .build_cartesian_2d(xr, (ymin..1.0).log_scale())
         .map_err(&e)?;
-    chart
-        .configure_mesh()
+    mesh_style(&mut chart.configure_mesh())
         .x_desc(label(column))
         .y_desc(format!("P(X {sign} x), {what} (1)"))
         .x_labels(7)
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
-        .label_style(font(14.0))
-        .axis_desc_style(font(16.0))
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(BLACK.mix(0.08))
         .draw()
         .map_err(&e)?;
     // Step functions: P(X ≥ x) takes the next point's value right after a point,

@@ -3,7 +3,7 @@
 //! intervals), and a scatter against its top driver (two instances columns, subsampled alike).
 
 use super::data::{self, label, RunInfo, StatRow};
-use super::plots::{fmt_tick, font, padded, plot_err, BLUE, ORANGE, SIZE};
+use super::plots::{font, legend_style, mesh_style, padded, plot_err, BLUE, ORANGE, SIZE};
 use super::{file_stem, ReportError, HEADLINE};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -193,16 +193,10 @@ pub fn tornado(
         .y_label_area_size(left)
         .build_cartesian_2d(x_range.clone(), -0.5..(k as f64 - 0.5))
         .map_err(&e)?;
-    chart
-        .configure_mesh()
+    mesh_style(&mut chart.configure_mesh())
         .x_desc(x_desc)
         .x_labels(9)
         .y_labels(0)
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .label_style(font(14.0))
-        .axis_desc_style(font(16.0))
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(BLACK.mix(0.08))
         .disable_y_mesh()
         .draw()
         .map_err(&e)?;
@@ -256,12 +250,8 @@ pub fn tornado(
         root.present().map_err(&e)?;
         return Ok(());
     }
-    chart
-        .configure_series_labels()
+    legend_style(&mut chart.configure_series_labels())
         .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.4))
-        .label_font(font(13.0))
         .draw()
         .map_err(&e)?;
     root.present().map_err(&e)?;
@@ -297,18 +287,11 @@ pub fn scatter(
         .y_label_area_size(84)
         .build_cartesian_2d(padded(x0, x1), padded(y0, y1))
         .map_err(&e)?;
-    chart
-        .configure_mesh()
+    mesh_style(&mut chart.configure_mesh())
         .x_desc(label(x_col))
         .y_desc(label(y_col))
         .x_labels(7)
         .y_labels(7)
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
-        .label_style(font(14.0))
-        .axis_desc_style(font(16.0))
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(BLACK.mix(0.08))
         .draw()
         .map_err(&e)?;
     chart
@@ -320,17 +303,13 @@ pub fn scatter(
         .map_err(&e)?
         .label(note)
         .legend(|(x, y)| Circle::new((x + 10, y), 4, BLUE.filled()));
-    chart
-        .configure_series_labels()
+    legend_style(&mut chart.configure_series_labels())
         // The corner the points leave empty: upper left when the QoI rises with the input.
         .position(if rising {
             SeriesLabelPosition::UpperLeft
         } else {
             SeriesLabelPosition::UpperRight
         })
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.4))
-        .label_font(font(13.0))
         .draw()
         .map_err(&e)?;
     root.present().map_err(&e)?;

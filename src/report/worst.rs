@@ -6,7 +6,8 @@
 
 use super::data::{label, unit_of, RunInfo};
 use super::plots::{
-    draw_keys, fmt_tick, font, padded, plot_err, Key, BLUE, GREEN, GREY, ORANGE, PURPLE, VERMILLION,
+    draw_keys, fmt_tick, font, mesh_style, padded, plot_err, Key, BLUE, GREEN, GREY, ORANGE,
+    PURPLE, VERMILLION,
 };
 use super::ReportError;
 use crate::montecarlo::histories::worst_is_smallest;
@@ -347,15 +348,14 @@ fn draw_history(path: &Path, title: &str, h: &History, limits: &Limits) -> Resul
         let y_scale = lo2.abs().max(hi2.abs()).max(f64::MIN_POSITIVE);
         let y_tick = move |v: &f64| fmt_tick(if v.abs() < 1e-9 * y_scale { 0.0 } else { *v });
         let mut mesh = chart.configure_mesh();
-        mesh.y_desc(panel.y_desc.as_str())
+        // Stacked panels: a point smaller text than the single charts.
+        mesh_style(&mut mesh)
+            .y_desc(panel.y_desc.as_str())
             .x_labels(10)
             .y_labels(5)
-            .x_label_formatter(&|v| fmt_tick(*v))
             .y_label_formatter(&y_tick)
             .label_style(font(13.0))
-            .axis_desc_style(font(15.0))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(BLACK.mix(0.08));
+            .axis_desc_style(font(15.0));
         if k + 1 == panels.len() {
             mesh.x_desc(label("time_s"));
         }
