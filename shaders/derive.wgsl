@@ -110,10 +110,10 @@ fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
     let nu = fl_mu_l(x.t_b) / x.rho_b;
     motion(s, d, &x, nu);
     x.v_u = tank_volume() - v_l + P.coupling_volume_m3 * sin(slosh_angle(s, x.sl));
-    let heat_cap = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
-    x.t_u = ((*s)[U_U] - (*s)[M_V] * FL.vapor_offset) / heat_cap;
+    let rho_v = (*s)[M_V] / x.v_u;
+    x.t_u = ullage_temperature((*s)[M_V], (*s)[M_G], (*s)[U_U], rho_v);
     x.m_v = (*s)[M_V];
-    x.p_v = (*s)[M_V] * fl_r_specific() * x.t_u / x.v_u;
+    x.p_v = fl_vapor_state(x.t_u, rho_v).p;
     x.p_u = x.p_v + (*s)[M_G] * he_r_specific() * x.t_u / x.v_u;
     let tw = wall_temperatures(s, x.wet);
     x.t_wd = tw.x;
@@ -121,18 +121,46 @@ fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
     return x;
 }
 
+// Ullage temperature from its energy with real-gas vapour (derive.rs::ullage_temperature):
+// Newton from the ideal-gas root until the step is a few f32 ulps (at most 12 steps).
+fn ullage_temperature(m_v: f32, m_g: f32, u: f32, rho_v: f32) -> f32 {
+    let heat_cap = m_v * FL.cv_vapor + m_g * HE.cv;
+    var t = (u - m_v * FL.vapor_offset) / heat_cap;
+    for (var i = 0; i < 12; i++) {
+        let v = fl_vapor_state(t, rho_v);
+        let r = m_v * v.u_res + heat_cap * t + m_v * FL.vapor_offset - u;
+        let step = r / (heat_cap + m_v * v.du_res_dt);
+        t = t - step;
+        if abs(step) <= 3e-7 * abs(t) {
+            break;
+        }
+    }
+    return t;
+}
+
 // ---------------------------------------------------------------- homogeneous level
 
 fn vapor_mass(m_p: f32, t: f32) -> f32 {
-    let rho_v = fl_psat_pa(t) / (fl_r_specific() * t);
+    let rho_v = fl_rho_v_sat(t);
     let rho_l = fl_rho_l(t);
     return clamp(rho_v * (tank_volume() - m_p / rho_l) / (1.0 - rho_v / rho_l), 0.0, m_p);
 }
 
+// Saturated real-gas vapour at t: (rho_v, u_v, h_v) as homogeneous.rs::saturated_vapor.
+fn saturated_vapor(t: f32) -> vec3<f32> {
+    let rho_v = fl_rho_v_sat(t);
+    let zu = fl_vapor_z_u_res(t, rho_v);
+    let rt = fl_r_specific() * t;
+    let u_v = FL.cv_vapor * t + FL.vapor_offset + zu.y * rt;
+    return vec3<f32>(rho_v, u_v, u_v + zu.x * rt);
+}
+
+// Internal energy of all fluid at t: liquid u_l = h_l - P_sat/rho_l, saturated vapour, helium.
 fn fluid_energy(m_p: f32, m_g: f32, t: f32) -> f32 {
     let m_v = vapor_mass(m_p, t);
-    let u_v = FL.cv_vapor * t + FL.vapor_offset;
-    return (m_p - m_v) * fl_h_l(t) + m_v * u_v + m_g * HE.cv * t;
+    let u_v = saturated_vapor(t).y;
+    let u_l = fl_h_l(t) - fl_psat_pa(t) / fl_rho_l(t);
+    return (m_p - m_v) * u_l + m_v * u_v + m_g * HE.cv * t;
 }
 
 /// Newton on E(T) = e. The f32 slope is a central difference over ±1 mK (the CPU's ±1e-6 T

@@ -125,15 +125,20 @@ fn fl_cp_l(t: f32) -> f32 {
     return fl_poly(FL.cp_l, fl_x_clamped(t));
 }
 
-// Liquid enthalpy (J/kg, 0 at t_min) at t (K): (T - t_min) times the mean c_p over
-// [t_min, T], continued linearly with the end-point c_p outside the range.
+// Slope of the saturated-liquid enthalpy dh_l/dT (J/(kg K)) at t (K), clamped outside the range.
+fn fl_dh_l_dt(t: f32) -> f32 {
+    return fl_poly(FL.dh_l_sat, fl_x_clamped(t));
+}
+
+// Saturated-liquid enthalpy (J/kg, 0 at t_min) at t (K): (T - t_min) times the mean dh_l/dT over
+// [t_min, T], continued linearly with the end-point slope outside the range.
 fn fl_h_l(t: f32) -> f32 {
     let d = (t - FL.t_min_hi) - FL.t_min_lo;
     if d <= 0.0 {
-        return FL.cp_l_lo * d;
+        return FL.dh_l_lo * d;
     }
     if t >= FL.t_max {
-        return FL.h_l_max + FL.cp_l_hi * (t - FL.t_max);
+        return FL.h_l_max + FL.dh_l_hi * (t - FL.t_max);
     }
     return d * fl_poly(FL.h_l_mean, fl_x_clamped(t));
 }
@@ -142,10 +147,10 @@ fn fl_h_l(t: f32) -> f32 {
 // d = T - t_min in [0, t_max - t_min].
 fn fl_t_from_h_l(h: f32) -> f32 {
     if h <= 0.0 {
-        return FL.t_min_hi + (FL.t_min_lo + h / FL.cp_l_lo);
+        return FL.t_min_hi + (FL.t_min_lo + h / FL.dh_l_lo);
     }
     if h >= FL.h_l_max {
-        return FL.t_max + (h - FL.h_l_max) / FL.cp_l_hi;
+        return FL.t_max + (h - FL.h_l_max) / FL.dh_l_hi;
     }
     var d = clamp(h / FL.h_l_max * FL.t_span, 0.0, FL.t_span);
     var lo = 0.0;
@@ -161,7 +166,7 @@ fn fl_t_from_h_l(h: f32) -> f32 {
         } else {
             lo = d;
         }
-        let d_newton = d - f / fl_poly(FL.cp_l, x);
+        let d_newton = d - f / fl_poly(FL.dh_l_sat, x);
         if abs(d_newton - d) <= FL_NEWTON_TOL * FL.t_half {
             d = clamp(d_newton, 0.0, FL.t_span);
             break;
@@ -169,6 +174,92 @@ fn fl_t_from_h_l(h: f32) -> f32 {
         d = select(0.5 * (lo + hi), d_newton, d_newton > lo && d_newton < hi);
     }
     return FL.t_min_hi + (FL.t_min_lo + d);
+}
+
+// Saturated-vapour density (kg/m^3) at t (K), clamped outside the range.
+fn fl_rho_v_sat(t: f32) -> f32 {
+    return exp(fl_poly(FL.ln_rho_v, fl_x_clamped(t)));
+}
+
+// (B_k, tau B_k' / k) of the virial form for density power k (coefficients from offset o = 6 (k-1)),
+// at y = tau - 1: written out, not looped (llvmpipe counts every loop iteration of an invocation).
+fn fl_virial_term(o: i32, k: f32, y: f32, tau: f32) -> vec2<f32> {
+    let c0 = FL.virial[o];
+    let c1 = FL.virial[o + 1];
+    let c2 = FL.virial[o + 2];
+    let c3 = FL.virial[o + 3];
+    let c4 = FL.virial[o + 4];
+    let c5 = FL.virial[o + 5];
+    let b = c0 + y * (c1 + y * (c2 + y * (c3 + y * (c4 + y * c5))));
+    let db = c1 + y * (2.0 * c2 + y * (3.0 * c3 + y * (4.0 * c4 + y * 5.0 * c5)));
+    return vec2<f32>(b, tau * db / k);
+}
+
+// (Z, u_res/(R T)) of the vapour at t (K) and density rho (kg/m^3): the virial form of
+// src/fluids/vapor.rs, Horner in rho/rho_c over the four density powers.
+fn fl_vapor_z_u_res(t: f32, rho: f32) -> vec2<f32> {
+    let tau = FL.t_crit / max(t, 1.0);
+    let y = tau - 1.0;
+    let r = rho * FL.inv_rho_crit;
+    var acc = fl_virial_term(18, 4.0, y, tau) * r;
+    acc = (acc + fl_virial_term(12, 3.0, y, tau)) * r;
+    acc = (acc + fl_virial_term(6, 2.0, y, tau)) * r;
+    acc = (acc + fl_virial_term(0, 1.0, y, tau)) * r;
+    return vec2<f32>(1.0 + acc.x, acc.y);
+}
+
+// The real-gas vapour at (t, rho) with the derivatives an ullage node needs
+// (FluidProps::vapor_state): Z, u_res (J/kg), its T and rho slopes, P and its T and rho slopes.
+struct VaporState {
+    z: f32,
+    u_res: f32,
+    du_res_dt: f32,
+    du_res_drho: f32,
+    p: f32,
+    dp_dt: f32,
+    dp_drho: f32,
+}
+
+// (B_k, B_k', B_k'') of density power k at y = tau - 1, written out (no loop).
+fn fl_virial_b(o: i32, y: f32) -> vec3<f32> {
+    let c0 = FL.virial[o];
+    let c1 = FL.virial[o + 1];
+    let c2 = FL.virial[o + 2];
+    let c3 = FL.virial[o + 3];
+    let c4 = FL.virial[o + 4];
+    let c5 = FL.virial[o + 5];
+    let b = c0 + y * (c1 + y * (c2 + y * (c3 + y * (c4 + y * c5))));
+    let b1 = c1 + y * (2.0 * c2 + y * (3.0 * c3 + y * (4.0 * c4 + y * 5.0 * c5)));
+    let b2 = 2.0 * c2 + y * (6.0 * c3 + y * (12.0 * c4 + y * 20.0 * c5));
+    return vec3<f32>(b, b1, b2);
+}
+
+fn fl_vapor_state(t_in: f32, rho: f32) -> VaporState {
+    let t = max(t_in, 1.0);
+    let tau = FL.t_crit / t;
+    let y = tau - 1.0;
+    let r = rho * FL.inv_rho_crit;
+    let b4 = fl_virial_b(18, y);
+    let b3 = fl_virial_b(12, y);
+    let b2 = fl_virial_b(6, y);
+    let b1 = fl_virial_b(0, y);
+    // Horner in r: sums of r^k B_k, k r^k B_k, r^k B_k'/k, r^(k-1) B_k', r^k B_k''/k.
+    let z = (((b4.x * r + b3.x) * r + b2.x) * r + b1.x) * r;
+    let kz = (((4.0 * b4.x * r + 3.0 * b3.x) * r + 2.0 * b2.x) * r + b1.x) * r;
+    let u = (((0.25 * b4.y * r + b3.y / 3.0) * r + 0.5 * b2.y) * r + b1.y) * r;
+    let s1 = ((b4.y * r + b3.y) * r + b2.y) * r + b1.y;
+    let u2 = (((0.25 * b4.z * r + b3.z / 3.0) * r + 0.5 * b2.z) * r + b1.z) * r;
+    let rs = fl_r_specific();
+    let rtc = rs * FL.t_crit;
+    var v: VaporState;
+    v.z = 1.0 + z;
+    v.u_res = u * rtc;
+    v.du_res_dt = -(tau / t) * u2 * rtc;
+    v.du_res_drho = s1 * rtc * FL.inv_rho_crit;
+    v.p = rho * rs * t * v.z;
+    v.dp_dt = rho * rs * (v.z - tau * s1 * r);
+    v.dp_drho = rs * t * (kz + v.z);
+    return v;
 }
 
 // Latent heat (J/kg) at t (K), clamped outside the range.

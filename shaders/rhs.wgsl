@@ -18,7 +18,7 @@ fn wall_coefficients(x: Derived, liq: Conv, gas: Conv, t_liquid: f32, t_gas: f32
 
 /// (dH/dt, dV/dt) of a liquid node doing P dV work on the ullage.
 fn liquid_node_rates(p_pa: f32, flux_w: f32, dm: f32, t: f32, rho: f32) -> vec2<f32> {
-    let beta = -fl_drho_l_dt(t) / (rho * rho * fl_cp_l(t));
+    let beta = -fl_drho_l_dt(t) / (rho * rho * fl_dh_l_dt(t));
     let h = fl_h_l(t);
     let dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (1.0 + p_pa * beta);
     return vec2<f32>(dh, dm / rho + beta * (dh - h * dm));
@@ -53,6 +53,14 @@ struct EvapTail {
     h_lb: f32,
     h_fg: f32,
     h_vap_gas: f32,
+    /// Real-gas vapour at the ullage state: u_v, rho_v and the chain-rule slopes.
+    u_vap: f32,
+    rho_v: f32,
+    du_res_drho: f32,
+    dp_dt: f32,
+    dp_drho: f32,
+    /// dU_u/dT_u at constant masses and volume.
+    c_u: f32,
     vent: f32,
     y: f32,
     press: f32,
@@ -63,8 +71,8 @@ struct EvapTail {
     dv_slosh: f32,
     t_s: f32,
     rho_s: f32,
-    /// c_p,l and dP_sat/dT at T_s, evaluated once per right-hand side.
-    cp_s: f32,
+    /// dh_l/dT and dP_sat/dT at T_s, evaluated once per right-hand side.
+    dh_dt_s: f32,
     dpsat_dt: f32,
 }
 
@@ -82,11 +90,11 @@ fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
 
 /// d(P_sat(T_s) − P_v)/dt along the rates r of evap_tail (chain rule through derive_nodes).
 fn evap_dp_rate(s: ptr<function, St>, x: Derived, c: EvapTail, r: array<f32, 5>, dm_g: f32) -> f32 {
-    let heat_cap = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
-    let dt_s = (r[2] - c.h_ls * r[1]) / (max((*s)[M_S], 1.0e-9) * c.cp_s);
-    let dt_u = (r[3] - r[0] * FL.vapor_offset - x.t_u * (r[0] * FL.cv_vapor + dm_g * HE.cv)) / heat_cap;
+    let dt_s = (r[2] - c.h_ls * r[1]) / (max((*s)[M_S], 1.0e-9) * c.dh_dt_s);
     let dv_u = c.dv_slosh - r[4] - c.dv_b;
-    let dp_v = ((r[0] * x.t_u + (*s)[M_V] * dt_u) * fl_r_specific() - x.p_v * dv_u) / x.v_u;
+    let drho = (r[0] - c.rho_v * dv_u) / x.v_u;
+    let dt_u = (r[3] - r[0] * c.u_vap - (*s)[M_V] * c.du_res_drho * drho - dm_g * HE.cv * x.t_u) / c.c_u;
+    let dp_v = c.dp_dt * dt_u + c.dp_drho * drho;
     return c.dpsat_dt * dt_s - dp_v;
 }
 
@@ -164,7 +172,10 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     let h_ls = fl_h_l(t_s);
     let h_lb = fl_h_l(t_b);
-    let h_vap_gas = FL.cp_vapor * t_u + FL.vapor_offset;
+    let rho_v = (*s)[M_V] / x.v_u;
+    let vapor = fl_vapor_state(t_u, rho_v);
+    let u_vap = FL.cv_vapor * t_u + FL.vapor_offset + vapor.u_res;
+    let h_vap_gas = u_vap + vapor.z * fl_r_specific() * t_u;
     let y = b.y;
     let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
     let h_press = helium_inlet_enthalpy();
@@ -192,6 +203,12 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.h_lb = h_lb;
     c.h_fg = fl_h_fg(t_s);
     c.h_vap_gas = h_vap_gas;
+    c.u_vap = u_vap;
+    c.rho_v = rho_v;
+    c.du_res_drho = vapor.du_res_drho;
+    c.dp_dt = vapor.dp_dt;
+    c.dp_drho = vapor.dp_drho;
+    c.c_u = (*s)[M_V] * (FL.cv_vapor + vapor.du_res_dt) + (*s)[M_G] * HE.cv;
     c.vent = b.vent;
     c.y = y;
     c.press = b.press;
@@ -202,7 +219,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.dv_slosh = dv_slosh;
     c.t_s = t_s;
     c.rho_s = x.rho_s;
-    c.cp_s = fl_cp_l(t_s);
+    c.dh_dt_s = fl_dh_l_dt(t_s);
     c.dpsat_dt = fl_dpsat_dt(t_s);
     let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
     EVAP_RATE = m_evap;
@@ -241,7 +258,7 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     var sv = *s;
     sv[M_V] = x.m_v;
     let b = boundary_flows(&sv, d, x);
-    let h_v = FL.cp_vapor * t + FL.vapor_offset;
+    let h_v = saturated_vapor(t).z;
     let h_u = b.y * h_v + (1.0 - b.y) * HE.cp * t;
     let h_l = fl_h_l(t);
     let h_press = helium_inlet_enthalpy();

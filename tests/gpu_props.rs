@@ -1,6 +1,6 @@
 //! The WGSL property library (`props_wgsl()`) against the Rust f64 functions it mirrors: one
 //! compute dispatch evaluates every `fl_*`, `he_*` and `tank_*` function on a grid of f32
-//! inputs for all four propellants and for one tank of each shape (plus a prolate capsule),
+//! inputs for every propellant and for one tank of each shape (plus a prolate capsule),
 //! and each result must agree with the Rust value at the same (f32) input to the tolerance
 //! listed per function. Skipped (with a message) when there is no GPU adapter, unless
 //! `CRYOSLOSH_REQUIRE_GPU=1`.
@@ -45,7 +45,7 @@ type FluidFn = fn(&FluidProps, f64) -> f64;
 type TankFn = fn(&Tank, f64) -> f64;
 
 /// WGSL call (argument `a`), input grid, Rust reference and max relative error allowed.
-const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 17] = [
+const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 20] = [
     ("fl_psat_pa(a)", Grid::LiquidT, |f, t| f.psat_pa(t), 5e-6),
     (
         "fl_dpsat_dt(a)",
@@ -81,6 +81,24 @@ const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 17] = [
     ),
     ("fl_h_fg(a)", Grid::LiquidT, |f, t| f.h_fg_j_per_kg(t), 1e-6),
     ("fl_k_l(a)", Grid::LiquidT, |f, t| f.k_l_w_per_m_k(t), 1e-6),
+    (
+        "fl_rho_v_sat(a)",
+        Grid::LiquidT,
+        |f, t| f.rho_v_sat_kg_per_m3(t),
+        5e-6,
+    ),
+    (
+        "fl_vapor_z_u_res(a, fl_rho_v_sat(a)).x",
+        Grid::LiquidT,
+        |f, t| f.vapor_z_u_res(t, f.rho_v_sat_kg_per_m3(t)).0,
+        2e-6,
+    ),
+    (
+        "fl_vapor_z_u_res(a, fl_rho_v_sat(a)).y",
+        Grid::LiquidT,
+        |f, t| f.vapor_z_u_res(t, f.rho_v_sat_kg_per_m3(t)).1,
+        3e-5,
+    ),
     ("fl_mu_l(a)", Grid::LiquidT, |f, t| f.mu_l_pa_s(t), 5e-6),
     ("fl_k_v(a)", Grid::GasT, |f, t| f.k_v_w_per_m_k(t), 5e-6),
     ("fl_mu_v(a)", Grid::GasT, |f, t| f.mu_v_pa_s(t), 5e-6),

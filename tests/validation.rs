@@ -12,7 +12,7 @@ const WINDOW: (f64, f64) = (0.75, 1.33);
 
 /// Rows the lumped level misses, with the documented ratio (± 5 %): (tank, fill, heat).
 const KNOWN_MISSES: [(&str, f64, f64, f64); 2] =
-    [("mhtb", 0.90, 54.1, 0.64), ("mhtb", 0.90, 20.2, 0.54)];
+    [("mhtb", 0.90, 54.1, 0.58), ("mhtb", 0.90, 20.2, 0.49)];
 
 /// Least-squares slope of pressure over [t0, t1], Pa/s.
 fn slope(h: &History, t0: f64, t1: f64) -> f64 {
@@ -54,12 +54,16 @@ fn rate(tank: &str, fill: f64, q: f64, p0: Option<f64>, level: &str) -> f64 {
         "mhtb" => ("mhtb_selfpress", 1800.0, 14400.0, 3.6),
         _ => ("aydelott_sphere", 10.0, 120.0, 1.0e-3),
     };
-    let sets = [
+    let mut sets = vec![
         format!("propellant.fill_fraction={fill}"),
         format!("tank.heat_leak_w={q}"),
         format!("campaign.fidelity={level}"),
         format!("ullage.pressure_pa={}", p0.unwrap_or(101_325.0)),
     ];
+    // The sensitivity table of docs/VALIDATION.md: extra `key=value` settings, `;`-separated.
+    if let Ok(extra) = std::env::var("CRYOSLOSH_VALIDATION_SET") {
+        sets.extend(extra.split(';').filter(|s| !s.is_empty()).map(String::from));
+    }
     let refs: Vec<&str> = sets.iter().map(String::as_str).collect();
     let c = load(campaign, &refs);
     let mut h = History::default();

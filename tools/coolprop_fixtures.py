@@ -4,16 +4,28 @@
 Writes, relative to the repository root (the parent of this script's folder,
 or ``--root DIR``):
 
-* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2}.csv`` -- saturated-liquid
+* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2,nLH2}.csv`` (LH2 is equilibrium
+  para-hydrogen, CoolProp ``ParaHydrogen``; nLH2 normal hydrogen, ``Hydrogen``) -- saturated-liquid
   properties (CoolProp ``Q=0``) at 121 temperatures spaced uniformly over the
-  usable range ``T_min = T_triple + 1 K`` .. ``T_max = 0.9 * T_crit``;
-* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2}_vapor.csv`` -- dilute-gas
+  usable range ``T_min = T_triple + 1 K`` .. ``T_max = 0.93 * T_crit`` (0.93 so that
+  LN2 at 2 MPa, T_sat = 0.916 T_crit, lies inside);
+* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2,nLH2}_vapor.csv`` -- dilute-gas
   thermal conductivity and viscosity on which the vapour power laws are
   fitted: 61 temperatures spaced uniformly in ln T over ``T_min .. 400 K`` at
   the fixed pressure ``P_fit = 0.5 * P_sat(T_min)`` (the largest "round" choice
   at which the gas is single-phase over the whole range; at tank pressures the
   dilute-gas transport properties differ from these only by the dense-gas
   excess, see ``src/fluids/mod.rs``);
+* ``tests/fixtures/fluids/{stem}_eos.csv`` -- the vapour's real-gas state for the density-explicit
+  virial fit of ``tools/fit_fluids.py``: compressibility Z and the residual internal energy
+  u_res / (R T) = tau d(alpha_r)/d(tau) at 41 saturated-vapour points (kind 0, uniform in T over the
+  usable range) and on 16 isobars (uniform in ln P from P_sat(t_min_k) to min(2 MPa, 0.9 P_crit)),
+  14 temperatures each uniform in ln T from 1.001 T_sat(P) to max(3 T_sat(P), 400 K) (kind 1 up to
+  3 T_sat, the acceptance range; kind 2 beyond it, where the fit is only constrained);
+* ``tests/fixtures/fluids/{stem}_closed_tank.csv`` -- the equilibrium pressure-rise coefficient of a
+  closed rigid tank, (dP/du) at constant mean density (Pa per J/kg: dP/dt = (dP/du) Q / m), from
+  CoolProp's two-phase (rho, u) flash differenced over u +- 1 J/kg, at fills 10/25/50/90 % of
+  saturated liquid and pressures 0.1, 0.6 and 2 MPa below 0.9 P_crit;
 * ``tests/fixtures/fluids/GHe.csv`` -- helium k and mu at 1 bar, 61
   temperatures spaced uniformly in ln T over 5 .. 400 K (gaseous at 1 bar).
 
@@ -42,12 +54,18 @@ R_UNIVERSAL = 8.314462618  # J/(mol K), must match cryoslosh::fluids::R_UNIVERSA
 
 # (file stem, CoolProp fluid string)
 PROPELLANTS = [
-    ("LH2", "Hydrogen"),
+    ("LH2", "ParaHydrogen"),
     ("LOX", "Oxygen"),
     ("LCH4", "Methane"),
     ("LN2", "Nitrogen"),
+    ("nLH2", "Hydrogen"),
 ]
+T_MAX_FRACTION = 0.93  # top of the usable range as a fraction of T_crit
 N_LIQUID = 121  # rows per saturated-liquid fixture (uniform in T)
+N_EOS_SAT, N_EOS_ISOBARS, N_EOS_T = 41, 16, 14  # vapour real-gas fixture grid
+P_EOS_MAX = 2.0e6  # Pa, top of the superheated-vapour range (or 0.9 P_crit if lower)
+CLOSED_TANK_P = (1.0e5, 6.0e5, 2.0e6)  # Pa
+CLOSED_TANK_FILL = (0.10, 0.25, 0.50, 0.90)  # liquid volume fraction
 N_VAPOR = 61  # rows per gas-phase fixture (uniform in ln T)
 T_VAPOR_MAX = 400.0  # K, top of the gas-phase fit range
 HE_T_MIN, HE_T_MAX, HE_P = 5.0, 400.0, 1.0e5  # helium range (K) and pressure (Pa)
@@ -90,7 +108,7 @@ def propellant(root: Path, stem: str, fluid: str) -> None:
     t_crit = CP.PropsSI("Tcrit", fluid)
     p_crit = CP.PropsSI("pcrit", fluid)
     t_min = t_triple + 1.0
-    t_max = 0.9 * t_crit
+    t_max = T_MAX_FRACTION * t_crit
     t_mid = 0.5 * (t_min + t_max)
     cp0, cv0 = ideal_gas_cp_cv(fluid, t_mid, m)
 
@@ -103,6 +121,7 @@ def propellant(root: Path, stem: str, fluid: str) -> None:
         ("t_max_k", t_max),
         ("cp_vapor_j_per_kg_k", cp0),
         ("cv_vapor_j_per_kg_k", cv0),
+        ("rho_crit_kg_per_m3", CP.PropsSI("rhomass_critical", fluid)),
     ]
     const_lines = [f"# const {k} = {v!r}" for k, v in consts]
 
@@ -110,6 +129,7 @@ def propellant(root: Path, stem: str, fluid: str) -> None:
     ts = np.linspace(t_min, t_max, N_LIQUID)
     ts[0], ts[-1] = t_min, t_max
     rows = []
+    h_l_min = CP.PropsSI("H", "T", t_min, "Q", 0, fluid)
     for t in ts:
         t = float(t)
         p = CP.PropsSI("P", "T", t, "Q", 0, fluid)
@@ -118,8 +138,10 @@ def propellant(root: Path, stem: str, fluid: str) -> None:
         h_fg = CP.PropsSI("H", "T", t, "Q", 1, fluid) - CP.PropsSI("H", "T", t, "Q", 0, fluid)
         k = CP.PropsSI("L", "T", t, "Q", 0, fluid)
         mu = CP.PropsSI("V", "T", t, "Q", 0, fluid)
-        vals = [t, p, rho, cp, h_fg, k, mu]
-        if not all(math.isfinite(v) and v > 0 for v in vals):
+        h_l = CP.PropsSI("H", "T", t, "Q", 0, fluid) - h_l_min
+        rho_v = CP.PropsSI("D", "T", t, "Q", 1, fluid)
+        vals = [t, p, rho, cp, h_fg, k, mu, h_l, rho_v]
+        if not all(math.isfinite(v) and v >= 0 for v in vals) or t > t_min and h_l <= 0:
             raise SystemExit(f"{fluid}: bad CoolProp value at T={t}: {vals}")
         rows.append(vals)
     header = [
@@ -127,13 +149,24 @@ def propellant(root: Path, stem: str, fluid: str) -> None:
         *version_lines(fluid),
         "# Saturated liquid (Q=0) along the saturation curve, "
         f"{N_LIQUID} rows uniform in T over [t_min_k, t_max_k]",
-        "# t_min_k = t_triple_k + 1 K, t_max_k = 0.9 * t_crit_k; h_fg = H(Q=1) - H(Q=0)",
+        f"# t_min_k = t_triple_k + 1 K, t_max_k = {T_MAX_FRACTION} * t_crit_k; h_fg = H(Q=1) - H(Q=0)",
         "# cp/cv_vapor: ideal-gas CP0MASS at (t_min_k+t_max_k)/2; cv = cp - 8.314462618/M",
         "# units: t_k [K], psat_pa [Pa], rho_l_kg_m3 [kg/m^3], cp_l_j_kgk [J/(kg K)], "
-        "h_fg_j_kg [J/kg], k_l_w_mk [W/(m K)], mu_l_pa_s [Pa s]",
+        "h_fg_j_kg [J/kg], k_l_w_mk [W/(m K)], mu_l_pa_s [Pa s], "
+        "h_l_j_kg [J/kg] = H(Q=0) - H(Q=0, t_min_k), rho_v_kg_m3 [kg/m^3] (Q=1)",
         *const_lines,
     ]
-    cols = ["t_k", "psat_pa", "rho_l_kg_m3", "cp_l_j_kgk", "h_fg_j_kg", "k_l_w_mk", "mu_l_pa_s"]
+    cols = [
+        "t_k",
+        "psat_pa",
+        "rho_l_kg_m3",
+        "cp_l_j_kgk",
+        "h_fg_j_kg",
+        "k_l_w_mk",
+        "mu_l_pa_s",
+        "h_l_j_kg",
+        "rho_v_kg_m3",
+    ]
     write(root / f"{stem}.csv", header, cols, rows)
 
     # --- dilute gas for the vapour power laws ----------------------------
@@ -148,6 +181,72 @@ def propellant(root: Path, stem: str, fluid: str) -> None:
         "P_fit = 0.5 * P_sat(t_min_k): single-phase gas over the whole range",
         [("fit_t_min_k", t_min), ("fit_t_max_k", T_VAPOR_MAX), ("fit_p_pa", p_fit)],
     )
+
+
+def vapor_eos(root: Path, stem: str, fluid: str) -> None:
+    """Real-gas vapour states: Z and u_res/(R T) on saturation and superheated isobars."""
+    st = CP.AbstractState("HEOS", fluid)
+    t_min = CP.PropsSI("Ttriple", fluid) + 1.0
+    t_crit = CP.PropsSI("Tcrit", fluid)
+    p_crit = CP.PropsSI("pcrit", fluid)
+    states = []
+    for t in np.linspace(t_min, T_MAX_FRACTION * t_crit, N_EOS_SAT):
+        st.update(CP.QT_INPUTS, 1.0, float(t))
+        states.append((0, float(t), st.rhomass()))
+    p_lo = CP.PropsSI("P", "T", t_min, "Q", 1, fluid)
+    p_hi = min(P_EOS_MAX, 0.9 * p_crit)
+    for p in np.exp(np.linspace(math.log(p_lo), math.log(p_hi), N_EOS_ISOBARS)):
+        t_sat = CP.PropsSI("T", "P", float(p), "Q", 1, fluid)
+        top = max(3.0 * t_sat, T_VAPOR_MAX)
+        for t in np.exp(np.linspace(math.log(1.001 * t_sat), math.log(top), N_EOS_T)):
+            st.update(CP.PT_INPUTS, float(p), float(t))
+            kind = 1 if t <= 3.0 * t_sat * (1 + 1e-12) else 2
+            states.append((kind, float(t), st.rhomass()))
+    rows = []
+    for kind, t, rho in states:
+        st.update(CP.DmassT_INPUTS, rho, t)
+        rows.append([t, rho, st.p(), st.compressibility_factor(), st.tau() * st.dalphar_dTau(), kind])
+    header = [
+        f"# cryoslosh vapour real-gas fixture for {stem}, generated by tools/coolprop_fixtures.py",
+        *version_lines(fluid),
+        f"# kind 0: saturated vapour, {N_EOS_SAT} rows uniform in T over [t_min_k, t_max_k];",
+        f"# kind 1/2: {N_EOS_ISOBARS} isobars uniform in ln P over [P_sat(t_min_k), min(2 MPa, 0.9 P_crit)],",
+        f"# {N_EOS_T} temperatures each uniform in ln T over [1.001 T_sat(P), max(3 T_sat(P), 400 K)]",
+        "# (kind 1 up to 3 T_sat, kind 2 beyond). z = P / (rho R T); u_res_rt = tau d(alpha_r)/d(tau)",
+        "# units: t_k [K], rho_kg_m3 [kg/m^3], p_pa [Pa], z [-], u_res_rt [-], kind [-]",
+    ]
+    write(root / f"{stem}_eos.csv", header, ["t_k", "rho_kg_m3", "p_pa", "z", "u_res_rt", "kind"], rows)
+
+
+def closed_tank(root: Path, stem: str, fluid: str) -> None:
+    """dP/du at constant mean density of a closed rigid tank in two-phase equilibrium."""
+    st = CP.AbstractState("HEOS", fluid)
+    p_crit = CP.PropsSI("pcrit", fluid)
+    rows = []
+    for p in CLOSED_TANK_P:
+        if p >= 0.9 * p_crit:
+            continue
+        st.update(CP.PQ_INPUTS, p, 0.0)
+        t, rho_l, u_l = st.T(), st.rhomass(), st.umass()
+        st.update(CP.PQ_INPUTS, p, 1.0)
+        rho_v, u_v = st.rhomass(), st.umass()
+        for fill in CLOSED_TANK_FILL:
+            rho = fill * rho_l + (1.0 - fill) * rho_v
+            u = (fill * rho_l * u_l + (1.0 - fill) * rho_v * u_v) / rho
+            st.update(CP.DmassUmass_INPUTS, rho, u + 1.0)
+            p_up = st.p()
+            st.update(CP.DmassUmass_INPUTS, rho, u - 1.0)
+            p_down = st.p()
+            rows.append([t, p, fill, rho, (p_up - p_down) / 2.0])
+    header = [
+        f"# cryoslosh closed-tank equilibrium fixture for {stem}, generated by tools/coolprop_fixtures.py",
+        *version_lines(fluid),
+        "# Two-phase equilibrium at pressure p_pa with liquid volume fraction fill; rho_mean = m / V.",
+        "# dp_du: (dP/du) at constant rho_mean from CoolProp's (rho, u) flash at u +- 1 J/kg, so a",
+        "# closed rigid tank heated at Q watts rises at dP/dt = dp_du * Q / m.",
+        "# units: t_k [K], p_pa [Pa], fill [-], rho_mean_kg_m3 [kg/m^3], dp_du_pa_kg_j [Pa kg/J]",
+    ]
+    write(root / f"{stem}_closed_tank.csv", header, ["t_k", "p_pa", "fill", "rho_mean_kg_m3", "dp_du_pa_kg_j"], rows)
 
 
 def gas(
@@ -213,6 +312,8 @@ def main() -> None:
     out.mkdir(parents=True, exist_ok=True)
     for stem, fluid in PROPELLANTS:
         propellant(out, stem, fluid)
+        vapor_eos(out, stem, fluid)
+        closed_tank(out, stem, fluid)
     helium(out)
 
 

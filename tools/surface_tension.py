@@ -3,7 +3,7 @@
 
 Writes, relative to the repository root (the parent of this script's folder):
 
-* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2}_sigma.csv`` -- CoolProp surface tension
+* ``tests/fixtures/fluids/{LH2,LOX,LCH4,LN2,nLH2}_sigma.csv`` -- CoolProp surface tension
   (``I`` at ``Q=0``) at 41 temperatures uniform over the fitted range of the other
   properties, ``T_triple + 1 K .. 0.9 T_crit``;
 * ``src/fluids/surface_tension.rs`` -- the coefficients of the corresponding-states form
@@ -24,7 +24,13 @@ import CoolProp
 import CoolProp.CoolProp as CP
 import numpy as np
 
-PROPELLANTS = [("LH2", "Hydrogen"), ("LOX", "Oxygen"), ("LCH4", "Methane"), ("LN2", "Nitrogen")]
+PROPELLANTS = [
+    ("LH2", "ParaHydrogen"),
+    ("LOX", "Oxygen"),
+    ("LCH4", "Methane"),
+    ("LN2", "Nitrogen"),
+    ("nLH2", "Hydrogen"),
+]
 N = 41
 
 
@@ -67,7 +73,7 @@ def main() -> None:
     for stem, s0, n, t_c, err in rows:
         out += [
             f"/// {stem}: largest relative error {err:.2e}.",
-            f"pub const {stem}: SurfaceTension = SurfaceTension {{",
+            f"pub const {stem.upper()}: SurfaceTension = SurfaceTension {{",
             f"    sigma0_n_per_m: {s0!r},",
             f"    exponent: {n!r},",
             f"    t_crit_k: {t_c!r},",

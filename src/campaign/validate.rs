@@ -166,8 +166,13 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
 
     // Propellant and initial state.
     let pr = &raw.propellant;
-    let fluid = Fluid::from_name(&pr.fluid)
-        .ok_or_else(|| c.err("propellant.fluid", &pr.fluid, "LH2 | LOX | LCH4 | LN2"))?;
+    let fluid = Fluid::from_name(&pr.fluid).ok_or_else(|| {
+        c.err(
+            "propellant.fluid",
+            &pr.fluid,
+            "LH2 | nLH2 | LOX | LCH4 | LN2",
+        )
+    })?;
     let f = fluid.props();
     let fill = c.range("propellant.fill_fraction", pr.fill_fraction, 0.02, 0.98)?;
     let (p_lo, p_hi) = (f.psat_pa(f.t_min_k), f.psat_pa(f.t_max_k));

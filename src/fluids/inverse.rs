@@ -32,8 +32,8 @@ impl HlInverse {
             let h = width * i as f64;
             let xi = f.x_of(f.t_from_h_l_k(h)).clamp(-1.0, 1.0);
             x[i] = xi;
-            // dx/dh = 1 / (T_half c_p(x)).
-            slope[i] = width / (f.t_half() * super::poly(&f.cp_l, xi));
+            // dx/dh = 1 / (T_half dh_l/dT(x)).
+            slope[i] = width / (f.t_half() * super::poly(&f.dh_l_sat, xi));
         }
         HlInverse {
             limits,
@@ -64,7 +64,7 @@ impl HlInverse {
 
 /// The table of propellant `fluid`, built on first use.
 pub(crate) fn hl_inverse(fluid: Fluid) -> &'static HlInverse {
-    static TABLES: OnceLock<[HlInverse; 4]> = OnceLock::new();
+    static TABLES: OnceLock<[HlInverse; Fluid::ALL.len()]> = OnceLock::new();
     let tables = TABLES.get_or_init(|| Fluid::ALL.map(|fl| HlInverse::build(fl.props())));
     &tables[fluid as usize]
 }

@@ -2,8 +2,10 @@
 //!
 //! # Fluids and source data
 //!
-//! Propellants ([`Fluid`]): `LH2` (CoolProp `Hydrogen`, i.e. *normal* hydrogen),
-//! `LOX` (`Oxygen`), `LCH4` (`Methane`) and `LN2` (`Nitrogen`); pressurant
+//! Propellants ([`Fluid`]): `LH2` (CoolProp `ParaHydrogen`: equilibrium para-hydrogen, what
+//! flight and storage tanks hold after conversion), `nLH2` (CoolProp `Hydrogen`: *normal*
+//! hydrogen, 75 % ortho, freshly liquefied), `LOX` (`Oxygen`), `LCH4` (`Methane`) and `LN2`
+//! (`Nitrogen`); pressurant
 //! [`HELIUM`] (`Helium`, treated as an ideal gas). All reference values come from
 //! CoolProp 8.0.0 (the exact version and git revision are recorded in the header of
 //! every fixture in `tests/fixtures/fluids/` and of [`table`]). The coefficients in
@@ -14,17 +16,19 @@
 //! # Usable range and fit forms
 //!
 //! Each propellant is fitted along saturation from `t_min_k = T_triple + 1 K` to
-//! `t_max_k = 0.9 T_crit`. Every liquid-side property is a degree-7 polynomial with
+//! `t_max_k = 0.93 T_crit` (so that LN2 at 2 MPa, T_sat = 0.916 T_crit, is inside). Every liquid-side property is a degree-7 polynomial with
 //! exactly 8 monomial coefficients (constant term first, evaluated with Horner) in
 //! the normalised variable `x = (T − T_mid) / T_half ∈ [−1, 1]`, with
 //! `T_mid = (t_min_k + t_max_k) / 2` and `T_half = (t_max_k − t_min_k) / 2`:
-//! `ln P_sat`, `ρ_l`, `c_p,l`, `h_fg`, `k_l` and `ln μ_l`. The layout is uniform so
-//! that a GPU backend can evaluate the same [`FluidProps`] table in `f32`.
+//! `ln P_sat`, `ρ_l`, `c_p,l`, `h_fg`, `k_l`, `ln μ_l`, `ln ρ_v` (saturated vapour) and
+//! `dh_l,sat/dT`. The layout is uniform so that a GPU backend can evaluate the same
+//! [`FluidProps`] table in `f32`.
 //!
-//! * `h_l(T)` is the exact analytic integral of the `c_p,l` polynomial, referenced to
-//!   `h_l(t_min_k) = 0`, so `dh_l/dT == c_p,l` identically. (It differs from
-//!   CoolProp's saturated-liquid enthalpy rise by at most 0.5 % over the range: the
-//!   `v (1 − βT) dP_sat/dT` term is neglected.)
+//! * `h_l(T)` is the saturated-liquid enthalpy: the exact analytic integral of the
+//!   `dh_l,sat/dT` polynomial, referenced to `h_l(t_min_k) = 0`, fitted to CoolProp's
+//!   `H(Q=0)` rise itself (within 1e-5 of h_fg; the `c_p,l` integral used before missed it by
+//!   up to 0.5 % of the rise because it drops `v (1 − βT) dP_sat/dT`). `c_p,l` stays for the
+//!   heat-transfer correlations.
 //! * `dρ_l/dT` and `dP_sat/dT` are the analytic derivatives of the fits.
 //! * [`FluidProps::tsat_k`] inverts `ln P_sat` by safeguarded Newton iteration and
 //!   [`FluidProps::t_from_h_l_k`] inverts `h_l`.
@@ -39,10 +43,16 @@
 //!
 //! | fluid | P_sat [0.5 %] | ρ_l [1 %] | c_p,l [2 %] | h_fg [1 %] | k_l [3 %] | μ_l [3 %] | k_v [15 %] | μ_v [15 %] |
 //! |-------|---------|---------|---------|---------|---------|---------|--------|--------|
-//! | LH2   | 6.4e-6  | 1.3e-5  | 7.9e-4  | 2.8e-5  | 4.3e-4  | 1.8e-5  | 4.2e-2 | 1.07e-1 |
-//! | LOX   | 1.6e-4  | 3.4e-5  | 8.9e-4  | 4.8e-5  | 1.0e-4  | 1.5e-4  | 4.6e-2 | 4.1e-2 |
-//! | LCH4  | 6.1e-6  | 9.6e-6  | 3.0e-4  | 1.9e-5  | 1.3e-6  | 1.8e-5  | 2.0e-2 | 4.0e-2 |
-//! | LN2   | 2.8e-6  | 6.9e-6  | 2.3e-4  | 1.4e-5  | 1.0e-4  | 1.9e-5  | 4.1e-2 | 3.5e-2 |
+//! | LH2   | 8.9e-6  | 4.9e-5  | 3.1e-3  | 1.1e-4  | 2.8e-4  | 8.0e-5  | 1.57e-1¹ | 1.08e-1 |
+//! | LOX   | 2.1e-4  | 9.3e-5  | 2.8e-3  | 1.7e-4  | 1.0e-4  | 2.6e-4  | 4.6e-2 | 4.1e-2 |
+//! | LCH4  | 8.3e-6  | 3.9e-5  | 1.4e-3  | 7.9e-5  | 1.6e-5  | 7.1e-5  | 2.0e-2 | 4.0e-2 |
+//! | LN2   | 3.8e-6  | 3.0e-5  | 1.2e-3  | 5.9e-5  | 1.0e-4  | 7.6e-5  | 4.1e-2 | 3.5e-2 |
+//! | nLH2  | 8.4e-6  | 5.0e-5  | 3.2e-3  | 1.1e-4  | 4.1e-4  | 8.3e-5  | 4.2e-2 | 1.07e-1 |
+//!
+//! `h_l` is within 3.1e-5 of h_fg and `ρ_v,sat` within 1.3e-4 for every fluid.
+//!
+//! ¹ Para-hydrogen's rotational heat capacity peaks near 150 K and bends its gas conductivity away
+//! from any single power law over 14–400 K; its contract is 17 %.
 //!
 //! Helium power laws: k 2.3e-2, μ 2.7e-2 (contract 15 %).
 //!
@@ -59,8 +69,8 @@
 //!   end), so `P_sat` is continuous, strictly increasing and positive everywhere;
 //!   `ln P_sat` is finally limited to `[−700, 700]` so `P_sat` stays finite even for
 //!   absurd temperatures (its derivative is 0 where that limit is active).
-//! * `h_l` is continued linearly with the (clamped) `c_p,l` at the nearest end, so
-//!   `dh_l/dT == c_p,l` holds everywhere and `t_from_h_l_k` inverts it everywhere.
+//! * `h_l` is continued linearly with the end-point `dh_l,sat/dT`, so its slope is that fit
+//!   everywhere and `t_from_h_l_k` inverts it everywhere.
 //! * `tsat_k` clamps: pressures at or below `P_sat(t_min_k)` (including zero and
 //!   negative pressures) give `t_min_k`, pressures at or above `P_sat(t_max_k)` give
 //!   `t_max_k`.
@@ -70,7 +80,7 @@
 //! The propellant vapour and the helium pressurant are ideal gases with constant
 //! `c_p`, `c_v` (CoolProp ideal-gas `CP0MASS`; `c_v = c_p − R_u/M` with
 //! [`R_UNIVERSAL`]). For the propellants `c_p` is taken at the middle of the liquid
-//! range; note that normal hydrogen's `c_p⁰` rises from 10.3 kJ/(kg K) there to
+//! range; note that hydrogen's `c_p⁰` rises from 10.3 kJ/(kg K) there to
 //! 14.3 kJ/(kg K) at 300 K, which this constant does not capture. Gas thermal
 //! conductivity and viscosity are power laws `y = y_ref (T / t_ref)^n` because the
 //! ullage can be far warmer than saturation: the propellant laws are fitted over
@@ -85,6 +95,7 @@
 mod inverse;
 pub mod surface_tension;
 pub mod table;
+pub mod vapor;
 
 use crate::lanes::{Mask, Real};
 
@@ -111,7 +122,8 @@ pub(crate) const POWER_LAW_T_MAX_K: f64 = 10_000.0;
 /// A cryogenic propellant with saturation-property fits (CoolProp 8.0.0 source data).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Fluid {
-    /// Liquid hydrogen (CoolProp `Hydrogen`, normal hydrogen); campaign name `"LH2"`.
+    /// Liquid hydrogen as flown and stored: equilibrium para-hydrogen (CoolProp
+    /// `ParaHydrogen`); campaign name `"LH2"`. Its P_sat is 2.4–4.2 % above normal hydrogen's.
     Lh2,
     /// Liquid oxygen (CoolProp `Oxygen`); campaign name `"LOX"`.
     Lox,
@@ -119,19 +131,24 @@ pub enum Fluid {
     Lch4,
     /// Liquid nitrogen (CoolProp `Nitrogen`); campaign name `"LN2"`.
     Ln2,
+    /// Normal liquid hydrogen, 75 % ortho / 25 % para (CoolProp `Hydrogen`); campaign name
+    /// `"nLH2"`. Freshly liquefied hydrogen before ortho–para conversion (the conversion heat
+    /// itself is not modelled).
+    NLh2,
 }
 
 impl Fluid {
     /// All propellants, in declaration order.
-    pub const ALL: [Fluid; 4] = [Fluid::Lh2, Fluid::Lox, Fluid::Lch4, Fluid::Ln2];
+    pub const ALL: [Fluid; 5] = [Fluid::Lh2, Fluid::Lox, Fluid::Lch4, Fluid::Ln2, Fluid::NLh2];
 
-    /// Campaign spelling: `"LH2"`, `"LOX"`, `"LCH4"`, `"LN2"`.
+    /// Campaign spelling: `"LH2"`, `"LOX"`, `"LCH4"`, `"LN2"`, `"nLH2"`.
     pub fn name(self) -> &'static str {
         match self {
             Fluid::Lh2 => "LH2",
             Fluid::Lox => "LOX",
             Fluid::Lch4 => "LCH4",
             Fluid::Ln2 => "LN2",
+            Fluid::NLh2 => "nLH2",
         }
     }
 
@@ -157,6 +174,7 @@ impl Fluid {
             Fluid::Lox => &table::LOX,
             Fluid::Lch4 => &table::LCH4,
             Fluid::Ln2 => &table::LN2,
+            Fluid::NLh2 => &table::NLH2,
         }
     }
 
@@ -167,6 +185,7 @@ impl Fluid {
             Fluid::Lox => surface_tension::LOX,
             Fluid::Lch4 => surface_tension::LCH4,
             Fluid::Ln2 => surface_tension::LN2,
+            Fluid::NLh2 => surface_tension::NLH2,
         }
     }
 }
@@ -199,7 +218,7 @@ pub struct FluidProps {
     pub p_crit_pa: f64,
     /// Lower end of the fitted range in K: `t_triple_k + 1`.
     pub t_min_k: f64,
-    /// Upper end of the fitted range in K: `0.9 t_crit_k`.
+    /// Upper end of the fitted range in K: `0.93 t_crit_k`.
     pub t_max_k: f64,
     /// Vapour ideal-gas isobaric specific heat in J/(kg K) (CoolProp `CP0MASS` at the
     /// middle of the liquid range).
@@ -216,6 +235,9 @@ pub struct FluidProps {
     pub mu_vapor_exp: f64,
     /// Reference temperature of the vapour power laws in K.
     pub vapor_t_ref_k: f64,
+    /// Critical density in kg/m³ (CoolProp `rhomass_critical`), the density scale of the
+    /// vapour virial form.
+    pub rho_crit_kg_per_m3: f64,
     /// `ln(P_sat / 1 Pa)` polynomial coefficients.
     pub ln_psat: [f64; 8],
     /// Saturated-liquid density polynomial coefficients, kg/m³.
@@ -228,6 +250,14 @@ pub struct FluidProps {
     pub k_l: [f64; 8],
     /// `ln(μ_l / 1 Pa s)` polynomial coefficients (saturated-liquid viscosity).
     pub ln_mu_l: [f64; 8],
+    /// `ln(ρ_v / 1 kg/m³)` polynomial coefficients (saturated-vapour density).
+    pub ln_rho_v: [f64; 8],
+    /// `dh_l,sat/dT` polynomial coefficients, J/(kg K): the slope of the saturated-liquid
+    /// enthalpy along saturation (`c_p,l + v (1 − βT) dP_sat/dT`), whose integral is `h_l`.
+    pub dh_l_sat: [f64; 8],
+    /// Vapour virial coefficients `c_kj` (k = 1..4 outer, j = 0..5 inner) of
+    /// `Z = 1 + Σ_k (ρ/ρ_c)^k Σ_j c_kj (τ − 1)^j`, `τ = T_c/T` (see [`vapor`]).
+    pub vapor_virial: [f64; 24],
 }
 
 /// Horner evaluation of `Σ c_i x^i`.
@@ -428,13 +458,14 @@ impl FluidProps {
         poly(&self.cp_l, self.x_clamped(t_k))
     }
 
-    /// Liquid specific enthalpy at `t_k` (K), in J/kg, relative to 0 at `t_min_k`:
-    /// the exact integral of [`Self::cp_l_j_per_kg_k`] (continued linearly with the
-    /// end-point `c_p` outside the range), so `dh_l/dT == c_p,l` everywhere.
+    /// Saturated-liquid specific enthalpy at `t_k` (K), in J/kg, relative to 0 at `t_min_k`:
+    /// the exact integral of the `dh_l_sat` fit of CoolProp's `H(Q=0)` rise (continued linearly
+    /// with the end-point slope outside the range), so [`Self::dh_l_dt`] is its derivative
+    /// everywhere. Within 3.1e-5 of h_fg of CoolProp over the range (`tests/fluids.rs`).
     pub fn h_l_j_per_kg<T: Real>(&self, t_k: T) -> T {
         let (base, h_max) = self.h_l_limits();
-        let below = (t_k - self.t_min_k) * poly(&self.cp_l, -1.0);
-        let above = (t_k - self.t_max_k) * poly(&self.cp_l, 1.0) + h_max;
+        let below = (t_k - self.t_min_k) * poly(&self.dh_l_sat, -1.0);
+        let above = (t_k - self.t_max_k) * poly(&self.dh_l_sat, 1.0) + h_max;
         let inside = self.h_l_above(self.x_clamped(t_k), base);
         let h = T::select(t_k.ge(T::splat(self.t_max_k)), above, inside);
         T::select(t_k.le(T::splat(self.t_min_k)), below, h)
@@ -445,7 +476,7 @@ impl FluidProps {
     /// per Newton step).
     #[inline]
     fn h_l_above<T: Real>(&self, x: T, base: f64) -> T {
-        (poly_integral(&self.cp_l, x) - base) * self.t_half()
+        (poly_integral(&self.dh_l_sat, x) - base) * self.t_half()
     }
 
     /// Temperature (K) at which the liquid specific enthalpy is `h_j_per_kg` (J/kg):
@@ -457,9 +488,9 @@ impl FluidProps {
         self.invert_h_l(h_j_per_kg, base, h_max, start)
     }
 
-    /// The antiderivative of the `c_p,l` fit at x = −1 and `h_l(t_max_k)`, J/kg.
+    /// The antiderivative of the `dh_l_sat` fit at x = −1 and `h_l(t_max_k)`, J/kg.
     fn h_l_limits(&self) -> (f64, f64) {
-        let base = poly_integral(&self.cp_l, -1.0);
+        let base = poly_integral(&self.dh_l_sat, -1.0);
         (base, self.h_l_above(1.0, base))
     }
 
@@ -468,7 +499,7 @@ impl FluidProps {
     /// iterates until its own exit; lanes that are done no longer move.
     fn invert_h_l<T: Real>(&self, h_j_per_kg: T, base: f64, h_max: f64, start: T) -> T {
         let h = h_j_per_kg;
-        let (cp_lo, cp_hi) = (poly(&self.cp_l, -1.0), poly(&self.cp_l, 1.0));
+        let (cp_lo, cp_hi) = (poly(&self.dh_l_sat, -1.0), poly(&self.dh_l_sat, 1.0));
         let below = h / cp_lo + self.t_min_k;
         let above = (h - h_max) / cp_hi + self.t_max_k;
         let (le0, ge_max, nan) = (
@@ -488,7 +519,7 @@ impl FluidProps {
             let moving = !done & !zero;
             hi = T::select(moving & f.gt(T::splat(0.0)), x, hi);
             lo = T::select(moving & f.lt(T::splat(0.0)), x, lo);
-            let x_newton = x - f / (poly(&self.cp_l, x) * self.t_half());
+            let x_newton = x - f / (poly(&self.dh_l_sat, x) * self.t_half());
             // A Newton step below tolerance is accepted (quadratic convergence).
             let converged = ((x_newton - x) * self.t_half())
                 .abs()
@@ -503,6 +534,19 @@ impl FluidProps {
         let t = T::select(ge_max, above, self.t_of(x));
         let t = T::select(le0, below, t);
         T::select(nan, h, t)
+    }
+
+    /// Slope of [`Self::h_l_j_per_kg`] along saturation, J/(kg K) (the end-point value outside
+    /// the range). Differs from `c_p,l` by `v (1 − βT) dP_sat/dT`: below 1 % up to about
+    /// 0.7 T_crit, more towards `t_max_k`.
+    pub fn dh_l_dt<T: Real>(&self, t_k: T) -> T {
+        poly(&self.dh_l_sat, self.x_clamped(t_k))
+    }
+
+    /// Saturated-vapour density at `t_k` (K), kg/m³ (clamped outside the range): the fit of
+    /// CoolProp's `D(Q=1)`, within 1.3e-4 (`tests/fluids.rs`).
+    pub fn rho_v_sat_kg_per_m3<T: Real>(&self, t_k: T) -> T {
+        poly(&self.ln_rho_v, self.x_clamped(t_k)).exp()
     }
 
     /// Latent heat of vaporisation at `t_k` (K), in J/kg (clamped outside the range).

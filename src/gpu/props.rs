@@ -7,7 +7,7 @@ use crate::fluids::{
 };
 use crate::geometry::{Shape, Tank};
 use crate::gpu_struct;
-use crate::model::state::vapor_enthalpy_offset_of;
+use crate::model::state::vapor_energy_offset_of;
 
 /// `v` as an unevaluated f32 sum `hi + lo` (about 48 significant bits), for differences
 /// like `T − t_min` that must stay accurate when the operand is close to `v`.
@@ -30,8 +30,8 @@ fn deriv_coefs(c: &[f64; 8]) -> [f32; 8] {
     d
 }
 
-/// Coefficients of `S(x) = (P(x) − P(−1)) / (x + 1)`, `P` the antiderivative of the `c_p`
-/// polynomial: the mean `c_p` over `[−1, x]`, so that `h_l = (T − t_min) S(x)` has no
+/// Coefficients of `S(x) = (P(x) − P(−1)) / (x + 1)`, `P` the antiderivative of the
+/// `dh_l,sat/dT` polynomial: its mean over `[−1, x]`, so that `h_l = (T − t_min) S(x)` has no
 /// cancellation near `t_min`.
 fn mean_coefs(c: &[f64; 8]) -> [f32; 8] {
     let mut e = [0.0_f32; 8];
@@ -61,8 +61,12 @@ gpu_struct! {
         pub molar_mass: f32,
         /// Critical pressure (Pa), for the divergence check.
         pub p_crit: f32,
-        /// Vapour enthalpy reference offset (J/kg), `model::state::vapor_enthalpy_offset`.
+        /// Real-gas vapour internal-energy offset (J/kg), `model::state::vapor_energy_offset`.
         pub vapor_offset: f32,
+        /// Critical temperature (K), the virial form's `τ = T_c/T`.
+        pub t_crit: f32,
+        /// `1 / ρ_c` (m³/kg), the virial form's density scale.
+        pub inv_rho_crit: f32,
         /// `T_mid = (t_min + t_max) / 2` split as `hi + lo` (K).
         pub t_mid_hi: f32,
         /// Low part of `T_mid` (K).
@@ -83,10 +87,10 @@ gpu_struct! {
         pub ln_psat_slope_hi: f32,
         /// Limit on `|ln P_sat|` (the Rust limit, narrowed so `exp` stays a normal f32).
         pub ln_p_limit: f32,
-        /// `c_p,l` at `t_min` (J/(kg K)).
-        pub cp_l_lo: f32,
-        /// `c_p,l` at `t_max` (J/(kg K)).
-        pub cp_l_hi: f32,
+        /// `dh_l,sat/dT` at `t_min` (J/(kg K)): slope of the `h_l` continuation below.
+        pub dh_l_lo: f32,
+        /// `dh_l,sat/dT` at `t_max` (J/(kg K)): slope of the `h_l` continuation above.
+        pub dh_l_hi: f32,
         /// `h_l(t_max)` (J/kg).
         pub h_l_max: f32,
         /// Vapour specific gas constant `R_u / M` (J/(kg K)).
@@ -119,7 +123,9 @@ gpu_struct! {
         pub rho_l_d: [f32; 8],
         /// `c_p,l` coefficients (J/(kg K)).
         pub cp_l: [f32; 8],
-        /// Mean-`c_p` coefficients: `h_l = (T − t_min) Σ m_i x^i` inside the range (J/(kg K)).
+        /// `dh_l,sat/dT` coefficients (J/(kg K)), the Newton slope of `h_l`'s inverse.
+        pub dh_l_sat: [f32; 8],
+        /// Mean-slope coefficients: `h_l = (T − t_min) Σ m_i x^i` inside the range (J/(kg K)).
         pub h_l_mean: [f32; 8],
         /// `h_fg` coefficients (J/kg).
         pub h_fg: [f32; 8],
@@ -127,6 +133,10 @@ gpu_struct! {
         pub k_l: [f32; 8],
         /// `ln μ_l` coefficients.
         pub ln_mu_l: [f32; 8],
+        /// `ln ρ_v` (saturated vapour) coefficients.
+        pub ln_rho_v: [f32; 8],
+        /// Vapour virial coefficients `c_kj`, k-major (`FluidProps::vapor_virial`).
+        pub virial: [f32; 24],
     }
 }
 
@@ -143,7 +153,9 @@ impl GpuFluid {
             t_max: f.t_max_k as f32,
             molar_mass: f.molar_mass_kg_per_mol as f32,
             p_crit: f.p_crit_pa as f32,
-            vapor_offset: vapor_enthalpy_offset_of(f) as f32,
+            vapor_offset: vapor_energy_offset_of(f) as f32,
+            t_crit: f.t_crit_k as f32,
+            inv_rho_crit: (1.0 / f.rho_crit_kg_per_m3) as f32,
             t_mid_hi,
             t_mid_lo,
             t_half: t_half as f32,
@@ -154,8 +166,8 @@ impl GpuFluid {
             ln_psat_hi: poly(&f.ln_psat, 1.0) as f32,
             ln_psat_slope_hi: poly_deriv(&f.ln_psat, 1.0) as f32,
             ln_p_limit: ln_p_limit_f32(),
-            cp_l_lo: poly(&f.cp_l, -1.0) as f32,
-            cp_l_hi: poly(&f.cp_l, 1.0) as f32,
+            dh_l_lo: poly(&f.dh_l_sat, -1.0) as f32,
+            dh_l_hi: poly(&f.dh_l_sat, 1.0) as f32,
             h_l_max: f.h_l_j_per_kg(f.t_max_k) as f32,
             r_specific: f.r_specific_j_per_kg_k() as f32,
             cp_vapor: f.cp_vapor_j_per_kg_k as f32,
@@ -172,10 +184,13 @@ impl GpuFluid {
             rho_l: coefs(&f.rho_l),
             rho_l_d: deriv_coefs(&f.rho_l),
             cp_l: coefs(&f.cp_l),
-            h_l_mean: mean_coefs(&f.cp_l),
+            dh_l_sat: coefs(&f.dh_l_sat),
+            h_l_mean: mean_coefs(&f.dh_l_sat),
             h_fg: coefs(&f.h_fg),
             k_l: coefs(&f.k_l),
             ln_mu_l: coefs(&f.ln_mu_l),
+            ln_rho_v: coefs(&f.ln_rho_v),
+            virial: f.vapor_virial.map(|c| c as f32),
         }
     }
 }

@@ -320,17 +320,53 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T>
     );
     let angle = slosh_angle(g, s, &out.slosh);
     out.v_ullage_m3 = v_tank - v_l + c_v * angle.map(f64::sin);
-    let off = vapor_enthalpy_offset(fluid);
-    let heat_cap = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
-    out.t_ullage_k = (s[U_U] - s[M_V] * off) / heat_cap;
+    let rho_v = s[M_V] / out.v_ullage_m3;
+    let (t_u, vapor) = ullage_temperature(fluid, s[M_V], s[M_G], s[U_U], rho_v);
+    out.t_ullage_k = t_u;
     out.m_vapor_kg = s[M_V];
-    out.p_vapor_pa = s[M_V] * f.r_specific_j_per_kg_k() * out.t_ullage_k / out.v_ullage_m3;
+    out.p_vapor_pa = vapor.p_pa;
     out.p_ullage_pa =
         out.p_vapor_pa + s[M_G] * HELIUM.r_specific_j_per_kg_k() * out.t_ullage_k / out.v_ullage_m3;
     let (twd, tww) = wall_temperatures(g, s, out.wetted_share);
     out.t_wall_dry_k = twd;
     out.t_wall_wet_k = tww;
     out
+}
+
+/// Iteration cap of [`ullage_temperature`]'s Newton solve (it needs 3–6).
+const ULLAGE_NEWTON_MAX: usize = 16;
+/// A lane stops once its Newton step is below this share of T.
+const ULLAGE_NEWTON_TOL: f64 = 1e-13;
+
+/// Ullage temperature from its energy `u_j` (J) with `m_v` kg of real-gas vapour at density
+/// `rho_v` (kg/m³) and `m_g` kg of ideal helium: the root of
+/// m_v (c_v,v T + e_0 + u_res(T, ρ_v)) + m_g c_v,He T = U (e_0: [`vapor_energy_offset`]), by
+/// Newton from the ideal-gas root until the step is below 1e-13 T (each lane stops moving on its
+/// own; near saturation at 2 MPa the ideal start is 20 K low and it takes six steps). Also
+/// returns the vapour's state there.
+pub fn ullage_temperature<T: Real>(
+    fluid: crate::fluids::Fluid,
+    m_v: T,
+    m_g: T,
+    u_j: T,
+    rho_v: T,
+) -> (T, crate::fluids::vapor::VaporState<T>) {
+    let f = fluid.props();
+    let off = vapor_energy_offset(fluid);
+    let heat_cap = m_v * f.cv_vapor_j_per_kg_k + m_g * HELIUM.cv_j_per_kg_k;
+    let mut t = (u_j - m_v * off) / heat_cap;
+    let mut done = T::Mask::splat(false);
+    for _ in 0..ULLAGE_NEWTON_MAX {
+        let v = f.vapor_state(t, rho_v);
+        let r = m_v * v.u_res_j_per_kg + heat_cap * t + m_v * off - u_j;
+        let step = r / (heat_cap + m_v * v.du_res_dt);
+        t = T::select(done, t, t - step);
+        done = done | step.abs().le(t.abs() * ULLAGE_NEWTON_TOL) | step.is(f64::is_nan);
+        if done.all() {
+            break;
+        }
+    }
+    (t, f.vapor_state(t, rho_v))
 }
 
 /// Slosh angle, rad: the pendulum angle (`lumped`) or atan(x_1 / L_1) (`two_mode`).

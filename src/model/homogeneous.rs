@@ -1,10 +1,13 @@
 //! The `homogeneous` level: liquid, vapour and helium in thermal equilibrium at one temperature,
 //! the vapour saturated (MODEL.md §1, §4). The classic baseline whose closed-tank pressure-rise
-//! rate has a closed form (tested in `tests/homogeneous.rs`).
+//! rate is checked against CoolProp's two-phase equilibrium (`tests/homogeneous.rs`).
 //!
-//! Conserved slots: `M_B` holds all propellant (liquid + vapour), `H_B` the energy of all fluid,
-//! `M_G` the helium. The temperature is the root of E(T) = `H_B`, with the vapour mass fixed by
-//! saturation and the tank volume.
+//! Conserved slots: `M_B` holds all propellant (liquid + vapour), `H_B` the internal energy of
+//! all fluid, `M_G` the helium. The temperature is the root of E(T) = `H_B`, with the vapour mass
+//! fixed by saturation and the tank volume. Real fluid throughout: the saturated-vapour density is
+//! CoolProp's (fit `ln ρ_v`, not P_sat/(RT)), the vapour energy carries the virial form's
+//! residual (`fluids::vapor`), and the liquid holds internal energy `u_l = h_l − P_sat/ρ_l` from
+//! the saturated-liquid enthalpy. Helium is an ideal gas filling the same volume.
 
 use super::boundary;
 use super::derive::{fill_level, motion, wall_temperatures, Derived, Drive};
@@ -16,10 +19,10 @@ use crate::fluids::HELIUM;
 use crate::lanes::{Mask, Real};
 
 /// Vapour mass at temperature `t` when `m_p` of propellant fills `v_tank` in equilibrium:
-/// m_v = ρ_v (V − m_p/ρ_l) / (1 − ρ_v/ρ_l), ρ_v = P_sat/(R_v T) (ideal gas, as in the ullage).
+/// m_v = ρ_v (V − m_p/ρ_l) / (1 − ρ_v/ρ_l), ρ_v the saturated-vapour density.
 fn vapor_mass<T: Real>(g: Group<'_>, m_p: T, t: T) -> T {
     let f = g.shared().fluid.props();
-    let rho_v = f.psat_pa(t) / (t * f.r_specific_j_per_kg_k());
+    let rho_v = f.rho_v_sat_kg_per_m3(t);
     let rho_l = f.rho_l_kg_per_m3(t);
     let v_tank: T = g.get(|p| p.tank.volume_m3());
     (rho_v * (v_tank - m_p / rho_l) / (rho_v / rho_l).rsub(1.0))
@@ -27,14 +30,27 @@ fn vapor_mass<T: Real>(g: Group<'_>, m_p: T, t: T) -> T {
         .min(m_p)
 }
 
-/// Energy of all fluid at equilibrium temperature `t`, J: liquid m_l h_l(T), vapour
-/// m_v (c_v,v T + offset) and helium m_g c_v,He T — the same references as the lumped nodes.
+/// Internal energy of all fluid at equilibrium temperature `t`, J: liquid m_l u_l(T), saturated
+/// vapour m_v u_v(T) ([`saturated_vapor`]) and helium m_g c_v,He T.
 pub fn fluid_energy<T: Real>(g: Group<'_>, m_p: T, m_g: T, t: T) -> T {
+    let f = g.shared().fluid.props();
+    let m_v = vapor_mass(g, m_p, t);
+    let (_, u_v, _) = saturated_vapor(g, t);
+    let u_l = f.h_l_j_per_kg(t) - f.psat_pa(t) / f.rho_l_kg_per_m3(t);
+    (m_p - m_v) * u_l + m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t
+}
+
+/// Saturated vapour at `t`: (ρ_v kg/m³, u_v J/kg, h_v J/kg). u_v = c_v T + offset + u_res(T, ρ_v)
+/// with the offset of [`vapor_energy_offset`], so h_v − h_l = h_fg at the normal boiling
+/// point and, through the fits, within 1e-3 of h_fg along the whole saturation line.
+pub fn saturated_vapor<T: Real>(g: Group<'_>, t: T) -> (T, T, T) {
     let fluid = g.shared().fluid;
     let f = fluid.props();
-    let m_v = vapor_mass(g, m_p, t);
-    let u_v = t * f.cv_vapor_j_per_kg_k + vapor_enthalpy_offset(fluid);
-    (m_p - m_v) * f.h_l_j_per_kg(t) + m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t
+    let rho_v = f.rho_v_sat_kg_per_m3(t);
+    let (z, u_res) = f.vapor_z_u_res(t, rho_v);
+    let rt = t * f.r_specific_j_per_kg_k();
+    let u_v = t * f.cv_vapor_j_per_kg_k + vapor_energy_offset(fluid) + u_res * rt;
+    (rho_v, u_v, u_v + z * rt)
 }
 
 /// Equilibrium temperature for the conserved propellant mass, helium mass and fluid energy:
@@ -128,7 +144,7 @@ pub fn rhs<T: Real>(
     let mut sv = *s;
     sv[M_V] = x.m_vapor_kg;
     let b = boundary::boundary_flows(g, &sv, d, x);
-    let h_v = t * f.cp_vapor_j_per_kg_k + vapor_enthalpy_offset(fluid);
+    let (_, _, h_v) = saturated_vapor(g, t);
     let h_u = b.y_vapor * h_v + b.y_vapor.rsub(1.0) * HELIUM.cp_j_per_kg_k * t;
     let h_l = f.h_l_j_per_kg(t);
     let h_press = boundary::helium_inlet_enthalpy(g);

@@ -61,8 +61,11 @@ pub(super) struct NodeFits<T> {
     pub t: T,
     /// Density, kg/m³.
     pub rho: T,
-    /// Specific heat, J/(kg·K).
+    /// Specific heat c_p,l, J/(kg·K) (convection and diffusivity).
     pub cp: T,
+    /// Slope of the node's enthalpy h_l(T) along saturation, J/(kg·K): what turns an enthalpy
+    /// rate into a temperature rate consistently with `derive` (T from h_l).
+    pub dh_dt: T,
     /// dρ/dT, kg/(m³·K).
     pub drho_dt: T,
     /// Specific enthalpy, J/kg.
@@ -77,6 +80,7 @@ impl<T: Real> NodeFits<T> {
             t,
             rho,
             cp: f.cp_l_j_per_kg_k(t),
+            dh_dt: f.dh_l_dt(t),
             drho_dt: f.drho_l_dt(t),
             h: f.h_l_j_per_kg(t),
         }
@@ -162,7 +166,7 @@ pub(super) fn wall_coefficients<T: Real>(
 /// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² c_p). Returns (dH/dt, dV/dt).
 fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits<T>) -> (T, T) {
     let (rho, h) = (n.rho, n.h);
-    let beta = -n.drho_dt / (rho * rho * n.cp);
+    let beta = -n.drho_dt / (rho * rho * n.dh_dt);
     let dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (p_pa * beta + 1.0);
     (dh, dm / rho + beta * (dh - h * dm))
 }
@@ -180,8 +184,14 @@ pub fn rhs<T: Real>(
 ) -> Fluxes<T> {
     let p0 = g.shared();
     let f = p0.fluid.props();
-    let off = vapor_enthalpy_offset(p0.fluid);
+    let off = vapor_energy_offset(p0.fluid);
     let (t_u, t_s, t_b) = (x.t_ullage_k, x.t_layer_k, x.t_bulk_k);
+    // Real-gas vapour at the ullage state (`fluids::vapor`): its energy, enthalpy and the
+    // derivatives the evaporation's chain rule needs.
+    let rho_v = s[M_V] / x.v_ullage_m3;
+    let vapor = f.vapor_state(t_u, rho_v);
+    let rv = f.r_specific_j_per_kg_k();
+    let u_vap = t_u * f.cv_vapor_j_per_kg_k + off + vapor.u_res_j_per_kg;
     let a_i = x.interface_area_m2;
     let tank = g.tank();
     let r_surf = tank.surface_radius_m(x.level_m).max_c(1.0e-3);
@@ -272,7 +282,7 @@ pub fn rhs<T: Real>(
     let (out_b, out_s) = (b.out_kg_s * bulk_left, b.out_kg_s * bulk_left.rsub(1.0));
 
     let (h_ls, h_lb) = (layer.h, bulk.h);
-    let h_vap_gas = t_u * f.cp_vapor_j_per_kg_k + off;
+    let h_vap_gas = u_vap + vapor.z * rv * t_u;
     let y = b.y_vapor;
     let h_u = y * h_vap_gas + y.rsub(1.0) * HELIUM.cp_j_per_kg_k * t_u;
     let h_press = boundary::helium_inlet_enthalpy(g);
@@ -306,17 +316,19 @@ pub fn rhs<T: Real>(
         [dm_v, dm_s, dh_s, du_u, dv_s]
     };
     // d(P_sat(T_s) − P_v)/dt along those rates, by the chain rule through `derive_nodes`:
-    // T_s from H_s/m_s, T_u from U_u, P_v = m_v R_v T_u / V_u.
-    let rv = f.r_specific_j_per_kg_k();
+    // T_s from H_s/m_s; ρ_v = m_v/V_u; T_u from U_u = m_v u_v(T_u, ρ_v) + m_g c_v,He T_u;
+    // P_v = P(T_u, ρ_v) of the real gas.
     let (cv_v, cv_g) = (f.cv_vapor_j_per_kg_k, HELIUM.cv_j_per_kg_k);
-    let heat_cap = s[M_V] * cv_v + s[M_G] * cv_g;
+    let heat_cap = s[M_V] * (vapor.du_res_dt + cv_v) + s[M_G] * cv_g;
     let dpsat_dt = f.psat_and_slope(t_s).1;
     let dm_g = ds[M_G];
     let dp_rate = |r: [T; 5]| -> T {
-        let dt_s = (r[2] - h_ls * r[1]) / (s[M_S].max_c(1.0e-9) * layer.cp);
-        let dt_u = (r[3] - r[0] * off - t_u * (r[0] * cv_v + dm_g * cv_g)) / heat_cap;
+        let dt_s = (r[2] - h_ls * r[1]) / (s[M_S].max_c(1.0e-9) * layer.dh_dt);
         let dv_u = dv_slosh - r[4] - dv_b;
-        let dp_v = ((r[0] * t_u + s[M_V] * dt_u) * rv - x.p_vapor_pa * dv_u) / x.v_ullage_m3;
+        let drho = (r[0] - rho_v * dv_u) / x.v_ullage_m3;
+        let dt_u = (r[3] - r[0] * u_vap - s[M_V] * vapor.du_res_drho * drho - dm_g * cv_g * t_u)
+            / heat_cap;
+        let dp_v = vapor.dp_dt * dt_u + vapor.dp_drho * drho;
         dpsat_dt * dt_s - dp_v
     };
     let (m_evap, evap_relaxation) = implicit_evaporation(k_evap, dp, dt, &tail, &dp_rate);

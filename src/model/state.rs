@@ -71,21 +71,25 @@ pub fn lane<T: crate::lanes::Real>(s: &State<T>, i: usize) -> State {
     std::array::from_fn(|j| s[j].lane(i))
 }
 
-/// Enthalpy reference of the vapour as an ideal gas: h_v(T) = c_p,v T + offset, with the offset
-/// chosen so that h_v − h_l = h_fg at the normal boiling point (MODEL.md §4, consistent
-/// references). Fixed per fluid so that dispersed inputs never move a reference; computed once
-/// (it needs a T_sat solve, which the right-hand side must not repeat).
-pub fn vapor_enthalpy_offset(fluid: Fluid) -> f64 {
-    static OFFSETS: OnceLock<[f64; 4]> = OnceLock::new();
-    let table = OFFSETS.get_or_init(|| Fluid::ALL.map(|fl| vapor_enthalpy_offset_of(fl.props())));
+/// Internal-energy reference of the real-gas vapour (MODEL.md §4, consistent references):
+/// u_v(T, ρ) = c_v,v T + offset + u_res(T, ρ) (`fluids::vapor`), the offset chosen so that the
+/// saturated vapour's enthalpy u_v + P_sat/ρ_v exceeds h_l by h_fg at the normal boiling point
+/// (through the fits it then does so within 1e-3 of h_fg along the whole saturation line). Fixed
+/// per fluid so that dispersed inputs never move a reference; computed once (it needs a T_sat
+/// solve, which the right-hand side must not repeat).
+pub fn vapor_energy_offset(fluid: Fluid) -> f64 {
+    static OFFSETS: OnceLock<[f64; Fluid::ALL.len()]> = OnceLock::new();
+    let table = OFFSETS.get_or_init(|| Fluid::ALL.map(|fl| vapor_energy_offset_of(fl.props())));
     let i = Fluid::ALL.iter().position(|&x| x == fluid).unwrap_or(0);
     table[i]
 }
 
-/// The offset of [`vapor_enthalpy_offset`] computed for fit `f` (one T_sat solve).
-pub fn vapor_enthalpy_offset_of(f: &FluidProps) -> f64 {
-    let t_ref = f.tsat_k(101_325.0);
-    f.h_l_j_per_kg(t_ref) + f.h_fg_j_per_kg(t_ref) - f.cp_vapor_j_per_kg_k * t_ref
+/// The offset of [`vapor_energy_offset`] computed for fit `f` (one T_sat solve).
+pub fn vapor_energy_offset_of(f: &FluidProps) -> f64 {
+    let t = f.tsat_k(101_325.0);
+    let rho_v = f.rho_v_sat_kg_per_m3(t);
+    let h_v = f.h_l_j_per_kg(t) + f.h_fg_j_per_kg(t);
+    h_v - f.psat_pa(t) / rho_v - f.cv_vapor_j_per_kg_k * t - f.vapor_u_res_j_per_kg(t, rho_v)
 }
 
 /// Initial wetted fraction of the wall and the liquid level for the initial fill.
@@ -98,8 +102,8 @@ fn initial_level(p: &Params) -> (f64, f64) {
     )
 }
 
-/// The initial state: liquid at `liquid_temperature_k`, ullage at the initial pressure (vapour at
-/// P_sat(T_l), helium the rest), wall at the liquid temperature, vehicle at its initial flight state.
+/// The initial state: liquid at `liquid_temperature_k`, ullage at the initial pressure (real-gas
+/// vapour at P_sat(T_l), helium the rest), wall at the liquid temperature, vehicle at its initial flight state.
 pub fn initial_state(p: &Params) -> State {
     let f = p.fluid.props();
     let mut s = [0.0; NS];
@@ -111,7 +115,11 @@ pub fn initial_state(p: &Params) -> State {
     let t_u = p.ullage_temperature_k;
     let p_v = f.psat_pa(t_l).min(p.ullage_pressure_pa);
     let p_g = (p.ullage_pressure_pa - p_v).max(0.0);
-    let m_v = p_v * v_u / (f.r_specific_j_per_kg_k() * t_u);
+    let m_v = match p.fidelity {
+        // The equilibrium node holds real saturated vapour at the liquid temperature.
+        Fidelity::Homogeneous => f.vapor_density_kg_per_m3(t_l, p_v) * v_u,
+        Fidelity::Lumped | Fidelity::TwoMode => f.vapor_density_kg_per_m3(t_u, p_v) * v_u,
+    };
     let m_g = p_g * v_u / (HELIUM.r_specific_j_per_kg_k() * t_u);
     let m_l = rho * v_l;
     s[M_V] = m_v;
@@ -127,8 +135,10 @@ pub fn initial_state(p: &Params) -> State {
             let (z, _) = initial_level(p);
             let area = p.tank.interface_area_m2(z).max(1.0e-6);
             let m_s = (rho * area * p.stratification.initial_thickness_m).min(0.5 * m_l);
-            let off = vapor_enthalpy_offset(p.fluid);
-            s[U_U] = m_v * (f.cv_vapor_j_per_kg_k * t_u + off) + m_g * HELIUM.cv_j_per_kg_k * t_u;
+            let u_v = f.cv_vapor_j_per_kg_k * t_u
+                + vapor_energy_offset(p.fluid)
+                + f.vapor_u_res_j_per_kg(t_u, m_v / v_u);
+            s[U_U] = m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t_u;
             s[M_S] = m_s;
             s[H_S] = m_s * f.h_l_j_per_kg(t_l);
             s[M_B] = m_l - m_s;

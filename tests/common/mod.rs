@@ -3,7 +3,7 @@
 
 use cryoslosh::campaign::Campaign;
 use cryoslosh::fluids::Fluid;
-use cryoslosh::model::state::vapor_enthalpy_offset;
+use cryoslosh::model::state::vapor_energy_offset;
 use std::path::PathBuf;
 
 /// Every shipped campaign.
@@ -38,19 +38,23 @@ pub fn validation_csv(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// du/dT of the saturated two-phase mixture at temperature t, J/(kg·K), per the closed form.
+/// du/dT of the saturated two-phase mixture at temperature t, J/(kg·K), at fixed specific volume
+/// v (m³/kg): u(T) = u_l + x (u_v − u_l), x = (v − v_l)/(v_v − v_l), written from the property
+/// fits (u_l = h_l − P_sat/ρ_l, v_v = 1/ρ_v,sat, u_v = c_v T + offset + u_res) and differenced
+/// over ±1 mK, independently of the model's Newton solve and state layout.
 pub fn mixture_du_dt(fluid: Fluid, v: f64, t: f64) -> f64 {
     let f = fluid.props();
-    let r = f.r_specific_j_per_kg_k();
-    let (p, dp) = (f.psat_pa(t), f.dpsat_dt_pa_per_k(t));
-    let rho = f.rho_l_kg_per_m3(t);
-    let (vl, dvl) = (1.0 / rho, -f.drho_l_dt(t) / (rho * rho));
-    let (vv, dvv) = (r * t / p, r / p - r * t * dp / (p * p));
-    let x = (v - vl) / (vv - vl);
-    let dx = (-dvl * (vv - vl) - (v - vl) * (dvv - dvl)) / ((vv - vl) * (vv - vl));
-    let ul = f.h_l_j_per_kg(t);
-    let uv = f.cv_vapor_j_per_kg_k * t + vapor_enthalpy_offset(fluid);
-    f.cp_l_j_per_kg_k(t) + dx * (uv - ul) + x * (f.cv_vapor_j_per_kg_k - f.cp_l_j_per_kg_k(t))
+    let u = |t: f64| {
+        let (vl, vv) = (1.0 / f.rho_l_kg_per_m3(t), 1.0 / f.rho_v_sat_kg_per_m3(t));
+        let x = (v - vl) / (vv - vl);
+        let ul = f.h_l_j_per_kg(t) - f.psat_pa(t) * vl;
+        let uv = f.cv_vapor_j_per_kg_k * t
+            + vapor_energy_offset(fluid)
+            + f.vapor_u_res_j_per_kg(t, 1.0 / vv);
+        ul + x * (uv - ul)
+    };
+    let h = 1e-3;
+    (u(t - 2.0 * h) - 8.0 * u(t - h) + 8.0 * u(t + h) - u(t + 2.0 * h)) / (12.0 * h)
 }
 
 /// Whether `python3` can import `modules` (e.g. "pyarrow, polars"); panics instead of skipping
