@@ -100,7 +100,35 @@ fn initial_level(p: &Params) -> (f64, f64) {
 
 /// Initial vapour partial pressure, Pa: the ullage pressure less the helium partial pressure.
 pub fn initial_vapor_pressure_pa(p: &Params) -> f64 {
-    (p.ullage_pressure_pa - p.ullage_helium_partial_pressure_pa).max(0.0)
+    vapor_partial_pressure_pa(
+        p.fluid,
+        p.ullage_pressure_pa,
+        p.ullage_helium_partial_pressure_pa,
+        p.liquid_temperature_k,
+    )
+}
+
+/// Default helium partial pressure, Pa: the ullage pressure `p_ullage_pa` less the vapour
+/// saturated at the liquid temperature `t_liquid_k` (at most the whole pressure).
+pub fn default_helium_pressure_pa(fluid: Fluid, p_ullage_pa: f64, t_liquid_k: f64) -> f64 {
+    p_ullage_pa - fluid.props().psat_pa(t_liquid_k).min(p_ullage_pa)
+}
+
+/// Vapour partial pressure P_u − P_He, Pa, for ullage pressure `p_ullage_pa` and helium partial
+/// pressure `p_helium_pa`. For the default helium it is min(P_sat(T_l), P_u) itself, not
+/// P_u − (P_u − P_sat) rounded, so that the default composition is today's to the bit.
+pub fn vapor_partial_pressure_pa(
+    fluid: Fluid,
+    p_ullage_pa: f64,
+    p_helium_pa: f64,
+    t_liquid_k: f64,
+) -> f64 {
+    let saturated = fluid.props().psat_pa(t_liquid_k).min(p_ullage_pa);
+    if p_helium_pa == p_ullage_pa - saturated {
+        saturated
+    } else {
+        (p_ullage_pa - p_helium_pa).max(0.0)
+    }
 }
 
 /// Default initial layer temperature, K: saturation at the initial vapour partial pressure

@@ -7,7 +7,9 @@ use crate::campaign::raw::{RawPressurization, RawStratification, RawUllage};
 use crate::campaign::CampaignError;
 use crate::fluids::Fluid;
 use crate::model::params::PressurantGas;
-use crate::model::state::default_layer_temperature_k;
+use crate::model::state::{
+    default_helium_pressure_pa, default_layer_temperature_k, vapor_partial_pressure_pa,
+};
 
 /// The resolved initial composition: helium partial pressure, Pa, and the layer's initial
 /// temperature, K.
@@ -31,11 +33,11 @@ pub(super) fn composition(
     let p_he = c.opt_range(
         helium_key,
         ullage.helium_partial_pressure_pa,
-        p_ullage_pa - f.psat_pa(t_liquid_k).min(p_ullage_pa),
+        default_helium_pressure_pa(fluid, p_ullage_pa, t_liquid_k),
         0.0,
         p_ullage_pa,
     )?;
-    let p_v = (p_ullage_pa - p_he).max(0.0);
+    let p_v = vapor_partial_pressure_pa(fluid, p_ullage_pa, p_he, t_liquid_k);
     if t_ullage_k < f.t_max_k {
         let p_sat_u = f.psat_pa(t_ullage_k);
         if p_v > p_sat_u * (1.0 + 1.0e-12) {
