@@ -351,3 +351,28 @@ fn composition_keys_are_dispersible() {
     assert_eq!(i.params.stratification.initial_temperature_k, 120.0);
     assert_eq!(i.params.pressurization.unwrap().gas_temperature_k, 300.0);
 }
+
+#[test]
+fn helium_and_autogenous_lanes_share_a_group_exactly() {
+    // The pressurant gas is a per-lane share, not a group-wide switch: a lane group mixing
+    // helium and autogenous members equals each run alone, bit for bit.
+    use cryoslosh::simulate::simulate_lanes;
+    let sets = [
+        "pressurization.gas=helium",
+        "pressurization.gas=autogenous",
+        "pressurization.gas=helium",
+        "pressurization.gas=autogenous",
+    ];
+    let cs: Vec<Campaign> = sets
+        .iter()
+        .map(|s| load("methalox_autogenous", &[s, "phases.burn.duration_s=60"]))
+        .collect();
+    assert!(cs.iter().all(|c| cs[0].params.lane_compatible(&c.params)));
+    let members: Vec<_> = cs.iter().map(|c| (c, &c.params)).collect();
+    let grouped = simulate_lanes(&members);
+    for (c, q) in cs.iter().zip(&grouped) {
+        let alone = simulate(c, &c.params, None);
+        assert_eq!(format!("{q:?}"), format!("{alone:?}"));
+    }
+    assert_ne!(format!("{:?}", grouped[0]), format!("{:?}", grouped[1]));
+}
