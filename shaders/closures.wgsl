@@ -205,9 +205,19 @@ fn boundary_ledger(b: Bnd, h_press: f32, h_u: f32, e_out: f32, ds: ptr<function,
     (*ds)[E_OUT] = e_out;
 }
 
-fn helium_inlet_enthalpy() -> f32 {
-    if ((P.flags & FLAG_PRESSURIZATION) != 0u) {
-        return HE.cp * P.press_gas_t;
+/// Pressurant enthalpy at the inlet temperature, J/kg (boundary::pressurant_inlet_enthalpy):
+/// helium, or the propellant's vapour on the ullage's reference when autogenous.
+fn pressurant_inlet_enthalpy() -> f32 {
+    if ((P.flags & FLAG_PRESSURIZATION) == 0u) {
+        return 0.0;
     }
-    return 0.0;
+    if ((P.flags & FLAG_AUTOGENOUS) != 0u) {
+        return FL.cp_vapor * P.press_gas_t + FL.vapor_offset;
+    }
+    return HE.cp * P.press_gas_t;
+}
+
+/// Share of the pressurant flow that is propellant vapour (boundary::pressurant_vapor_share).
+fn pressurant_vapor_share() -> f32 {
+    return select(0.0, 1.0, (P.flags & FLAG_AUTOGENOUS) != 0u);
 }

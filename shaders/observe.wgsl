@@ -132,8 +132,8 @@ fn observe(r: ptr<function, GpuResult>, s: ptr<function, St>, t: f32, ev: Eval, 
 }
 
 /// Phase record `slot` starts from the last observed state (hi + lo words) of `r`
-/// (simulate::qoi::Tracker::enter_phase): its start pressure, slosh angle, vapour mass and vented
-/// slots.
+/// (simulate::qoi::Tracker::enter_phase): its start pressure, slosh angle, vapour mass, vented
+/// and pressurant slots.
 fn enter_phase(slot: u32, r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>) {
     var ph: GpuPhaseResult;
     ph.entered = 1u;
@@ -151,6 +151,8 @@ fn enter_phase(slot: u32, r: ptr<function, GpuResult>, hi: ptr<function, St>, lo
     ph.vent_v_lo = (*lo)[VENT_V];
     ph.vent_g_hi = (*hi)[VENT_G];
     ph.vent_g_lo = (*lo)[VENT_G];
+    ph.press_in_hi = (*hi)[PRESS_IN];
+    ph.press_in_lo = (*lo)[PRESS_IN];
     phase_results[slot] = ph;
 }
 

@@ -64,6 +64,8 @@ struct EvapTail {
     vent: f32,
     y: f32,
     press: f32,
+    /// The share of it that is vapour (autogenous), kg/s.
+    press_v: f32,
     h_press: f32,
     h_u: f32,
     pu: f32,
@@ -79,7 +81,7 @@ struct EvapTail {
 /// [dm_v, dm_s, dH_s, dU_u, dV_s] at evaporation rate m.
 fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
     let e_evap = max(m, 0.0) * (c.h_ls + c.h_fg) + min(m, 0.0) * c.h_vap_gas;
-    let dm_v = m - c.vent * c.y;
+    let dm_v = m + c.press_v - c.vent * c.y;
     let dm_s = -m + c.m_strat - c.out_s;
     let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_lb - c.mix_w - c.out_s * c.h_ls;
     let rs = liquid_node_rates(c.pu, f_s, dm_s, c.t_s, c.rho_s);
@@ -178,10 +180,11 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let h_vap_gas = u_vap + vapor.z * fl_r_specific() * t_u;
     let y = b.y;
     let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
-    let h_press = helium_inlet_enthalpy();
+    let h_press = pressurant_inlet_enthalpy();
+    let press_v = b.press * pressurant_vapor_share();
     let pu = x.p_u;
 
-    (*ds)[M_G] = b.press - b.vent * (1.0 - y);
+    (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - y);
     (*ds)[M_B] = -m_strat - out_b;
     let mix_w = m_mix * (h_ls - h_lb);
     let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
@@ -212,6 +215,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.vent = b.vent;
     c.y = y;
     c.press = b.press;
+    c.press_v = press_v;
     c.h_press = h_press;
     c.h_u = h_u;
     c.pu = pu;
@@ -261,10 +265,11 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let h_v = saturated_vapor(t).z;
     let h_u = b.y * h_v + (1.0 - b.y) * HE.cp * t;
     let h_l = fl_h_l(t);
-    let h_press = helium_inlet_enthalpy();
+    let h_press = pressurant_inlet_enthalpy();
+    let press_v = b.press * pressurant_vapor_share();
 
-    (*ds)[M_B] = -b.out - b.vent * b.y;
-    (*ds)[M_G] = b.press - b.vent * (1.0 - b.y);
+    (*ds)[M_B] = press_v - b.out - b.vent * b.y;
+    (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - b.y);
     (*ds)[H_B] = q_wl + q_wu + b.press * h_press - b.vent * h_u - b.out * h_l;
     let force = motion_rates(s, d, x, ds);
     wall_rates(x, q_wl, q_wu, (*ds)[M_B] / rho, ds);

@@ -57,7 +57,7 @@ fn quantile(v: &mut [f64], p: f64) -> f64 {
 fn instances(campaign: &str) -> u64 {
     match campaign {
         "aydelott_sphere" => 8,
-        "lch4_coast" | "mhtb_selfpress" => 48,
+        "lch4_coast" | "mhtb_selfpress" | "methalox_autogenous" => 48,
         _ => 96,
     }
 }

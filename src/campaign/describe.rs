@@ -167,9 +167,14 @@ pub fn describe(c: &Campaign) -> String {
     );
     let _ = writeln!(
         o,
-        "ullage: {}, {}",
+        "ullage: {}, {}, {}",
         kv("pressure_pa", p.ullage_pressure_pa, "Pa"),
         kv("temperature_k", p.ullage_temperature_k, "K"),
+        kv(
+            "helium_partial_pressure_pa",
+            p.ullage_helium_partial_pressure_pa,
+            "Pa"
+        ),
     );
     // Without helium the difference is rounding noise of the pressure (1e-11 Pa): shown as 0.
     let helium_pa = x.p_ullage_pa - x.p_vapor_pa;
@@ -255,8 +260,9 @@ pub fn describe(c: &Campaign) -> String {
     let s = &p.stratification;
     let _ = writeln!(
         o,
-        "stratification: {}, {}, {}",
+        "stratification: {}, {}, {}, {}",
         kv("initial_thickness_m", s.initial_thickness_m, "m"),
+        kv("initial_temperature_k", s.initial_temperature_k, "K"),
         kv("diffusivity_factor", s.diffusivity_factor, ""),
         kv("wall_heat_to_layer", s.wall_heat_to_layer, ""),
     );
@@ -291,10 +297,10 @@ pub fn describe(c: &Campaign) -> String {
 
     // [pressurization], [relief], [engine], [feed], [vehicle]
     let _ = match &p.pressurization {
-        None => writeln!(o, "pressurization: none (no helium pressurant)"),
+        None => writeln!(o, "pressurization: none (no pressurant)"),
         Some(ps) => writeln!(
             o,
-            "pressurization: {}, {}, {}, {}, {}, {}, {}",
+            "pressurization: {}, {}, {}, {}, {}, {}, {}, gas {}",
             kv("setpoint_pa", ps.setpoint_pa, "Pa"),
             kv("kp_kg_per_s_pa", ps.kp_kg_per_s_pa, "kg/(s·Pa)"),
             kv("kd_kg_per_pa", ps.kd_kg_per_pa, "kg/Pa"),
@@ -302,6 +308,7 @@ pub fn describe(c: &Campaign) -> String {
             kv("max_flow_kg_per_s", ps.max_flow_kg_per_s, "kg/s"),
             kv("gas_temperature_k", ps.gas_temperature_k, "K"),
             kv("bottle_mass_kg", ps.bottle_mass_kg, "kg"),
+            ps.gas.name(),
         ),
     };
     let _ = match &p.relief {

@@ -72,6 +72,7 @@ pub struct RawPropellant {
 pub struct RawUllage {
     pub pressure_pa: f64,
     pub temperature_k: Option<f64>,
+    pub helium_partial_pressure_pa: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
@@ -91,6 +92,7 @@ pub struct RawStratification {
     pub initial_thickness_m: Option<f64>,
     pub diffusivity_factor: Option<f64>,
     pub wall_heat_to_layer: Option<f64>,
+    pub initial_temperature_k: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
@@ -111,6 +113,7 @@ pub struct RawSlosh {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPressurization {
+    pub gas: Option<String>,
     pub setpoint_pa: f64,
     pub kp_kg_per_s_pa: f64,
     pub kd_kg_per_pa: Option<f64>,

@@ -9,6 +9,8 @@ use crate::model::flight::{Excitation, Phase, PhaseKind, G0};
 use crate::model::params::*;
 use std::path::Path;
 
+mod composition;
+
 /// Smallest tank radius accepted, m: below it the wall area and the slosh parameters lose
 /// their meaning (a 1e-300 m tank passed `check` with a NaN wall).
 pub const MIN_RADIUS_M: f64 = 1.0e-3;
@@ -209,6 +211,13 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         t_liquid,
         400.0,
     )?;
+    let composition = composition::composition(
+        &c,
+        fluid,
+        &raw.ullage,
+        &raw.stratification,
+        (p0, t_liquid, t_ullage),
+    )?;
     let wall_cp = c.opt_range(
         "tank.wall_cp_j_per_kg_k",
         t.wall_cp_j_per_kg_k,
@@ -275,6 +284,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
             0.0,
             1.0,
         )?,
+        initial_temperature_k: composition.layer_temperature_k,
     };
     let sl = &raw.slosh;
     let baffle_count = sl.baffle_count.unwrap_or(0);
@@ -399,6 +409,8 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
                     0.0,
                     1.0e5,
                 )?,
+                // Last: its check reads the setpoint and inlet temperature validated above.
+                gas: composition::pressurant_gas(&c, fluid, ps)?,
             })
         })
         .transpose()?;
@@ -518,6 +530,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         fill_fraction: fill,
         liquid_temperature_k: t_liquid,
         ullage_pressure_pa: p0,
+        ullage_helium_partial_pressure_pa: composition.helium_partial_pressure_pa,
         ullage_temperature_k: t_ullage,
         heat_transfer,
         stratification,

@@ -16,7 +16,7 @@ use crate::engine::Engine;
 use crate::model::derive::Derived;
 use crate::model::flight::Phase;
 use crate::model::params::{Fidelity, Params};
-use crate::model::state::{State, M_V, NS, VENT_G, VENT_V};
+use crate::model::state::{State, M_V, NS, PRESS_IN, VENT_G, VENT_V};
 use crate::montecarlo::plan::{InstanceRecord, Plan};
 use crate::simulate::{cumulative, finish_summary, initial_state, PhaseSummary, Summary};
 use rayon::prelude::*;
@@ -407,7 +407,7 @@ fn summarize(
     } else {
         s0[M_V]
     };
-    let phases = phase_summaries(phase_records, phase_names, m_vapor0, (&s, x.m_vapor_kg));
+    let phases = phase_summaries(p, phase_records, phase_names, m_vapor0, (&s, x.m_vapor_kg));
     let q = Summary { phases, ..q };
     finish_summary(
         q,
@@ -426,6 +426,7 @@ fn summarize(
 /// ends where the next one starts, the last one entered at the instance's end (`end`: final state
 /// and vapour mass, kg); amounts count from the initial vapour mass `m_vapor0`, kg.
 fn phase_summaries(
+    p: &Params,
     records: &[GpuPhaseResult],
     names: &[String],
     m_vapor0: f64,
@@ -435,7 +436,8 @@ fn phase_summaries(
         let mut s = [0.0; NS];
         s[VENT_V] = join(ph.vent_v_hi, ph.vent_v_lo);
         s[VENT_G] = join(ph.vent_g_hi, ph.vent_g_lo);
-        cumulative(&s, join(ph.m_vapor_hi, ph.m_vapor_lo), m_vapor0)
+        s[PRESS_IN] = join(ph.press_in_hi, ph.press_in_lo);
+        cumulative(p, &s, join(ph.m_vapor_hi, ph.m_vapor_lo), m_vapor0)
     };
     let entered: Vec<&GpuPhaseResult> = records.iter().take_while(|ph| ph.entered != 0).collect();
     let f = f64::from;
@@ -450,7 +452,7 @@ fn phase_summaries(
             q.min_cavitation_margin_m = (ph.drew != 0).then(|| f(ph.min_margin_m));
             q.close(match entered.get(i + 1) {
                 Some(next) => start(next),
-                None => cumulative(end.0, end.1, m_vapor0),
+                None => cumulative(p, end.0, end.1, m_vapor0),
             });
             q
         })

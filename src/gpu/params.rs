@@ -21,6 +21,8 @@ pub mod flag {
     pub const H_WALL_LIQUID: u32 = 16;
     pub const PRESSURIZATION: u32 = 32;
     pub const RELIEF: u32 = 64;
+    /// The pressurant is the propellant's own vapour (`PressurantGas::Autogenous`).
+    pub const AUTOGENOUS: u32 = 128;
 }
 
 /// Excitation kinds in [`GpuPhase::exc_kind`].
@@ -206,7 +208,8 @@ gpu_struct! {
 
 gpu_struct! {
     /// One phase of one instance as the kernel saw it (`simulate::PhaseSummary`): whether it was
-    /// entered, its start values (pressure; vapour mass and vented slots in hi + lo words) and
+    /// entered, its start values (pressure; vapour mass, vented and pressurant slots in hi + lo
+    /// words) and
     /// its extremes. Indexed like the phases, instance × phase.
     pub struct GpuPhaseResult {
         pub entered: u32,
@@ -222,6 +225,9 @@ gpu_struct! {
         pub vent_v_lo: f32,
         pub vent_g_hi: f32,
         pub vent_g_lo: f32,
+        /// Pressurant admitted at the phase start (autogenous vapour is not boil-off), kg.
+        pub press_in_hi: f32,
+        pub press_in_lo: f32,
     }
 }
 
@@ -276,6 +282,9 @@ impl GpuParams {
         let rl = p.relief;
         if ps.is_some() {
             flags |= flag::PRESSURIZATION;
+        }
+        if p.pressurant_vapor_share() > 0.0 {
+            flags |= flag::AUTOGENOUS;
         }
         if rl.is_some() {
             flags |= flag::RELIEF;
@@ -503,6 +512,7 @@ pub fn constants_wgsl() -> String {
         ("FLAG_H_WALL_LIQUID", flag::H_WALL_LIQUID),
         ("FLAG_PRESSURIZATION", flag::PRESSURIZATION),
         ("FLAG_RELIEF", flag::RELIEF),
+        ("FLAG_AUTOGENOUS", flag::AUTOGENOUS),
         ("EXC_NONE", exc::NONE),
         ("EXC_STEP", exc::STEP),
         ("EXC_RAMP", exc::RAMP),

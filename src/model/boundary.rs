@@ -1,9 +1,9 @@
 //! What crosses the tank boundary and the vehicle motion, shared by every thermal level:
-//! helium inflow, relief venting, engine draw, slosh and flight derivatives (MODEL.md §5, §7, §8).
+//! pressurant inflow, relief venting, engine draw, slosh and flight derivatives (MODEL.md §5, §7, §8).
 
 use super::derive::{Derived, Drive};
 use super::flight::{self, G0};
-use super::params::{Fidelity, Params};
+use super::params::{Fidelity, Params, PressurantGas};
 use super::state::*;
 use super::thermal;
 use super::Group;
@@ -13,7 +13,7 @@ use crate::lanes::{c, Mask, Real};
 /// Flows through the tank boundary at one instant, kg/s.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BoundaryFlows<T = f64> {
-    /// Helium admitted.
+    /// Pressurant admitted (helium, or vapour when autogenous).
     pub press_kg_s: T,
     /// Ullage mixture vented.
     pub vent_kg_s: T,
@@ -35,7 +35,7 @@ impl<T: Real> BoundaryFlows<T> {
     }
 }
 
-/// Helium PD flow, relief flow and engine draw. Each is evaluated only when some lane needs
+/// Pressurant PD flow, relief flow and engine draw. Each is evaluated only when some lane needs
 /// it and applies in the lanes that do.
 pub fn boundary_flows<T: Real>(
     g: Group<'_>,
@@ -184,7 +184,7 @@ pub fn wall_rates<T: Real>(
     ds[E_ENV] = q_env;
 }
 
-/// The ledger of what crossed the tank boundary: vented species, drawn propellant, helium in,
+/// The ledger of what crossed the tank boundary: vented species, drawn propellant, pressurant in,
 /// and their energies (`h_u` the ullage enthalpy, `e_out_w` the enthalpy flow of the draw).
 pub fn boundary_ledger<T: Real>(
     b: &BoundaryFlows<T>,
@@ -202,10 +202,25 @@ pub fn boundary_ledger<T: Real>(
     ds[E_OUT] = e_out_w;
 }
 
-/// Helium enthalpy at the inlet temperature, J/kg.
-pub fn helium_inlet_enthalpy<T: Real>(g: Group<'_>) -> T {
+/// Pressurant enthalpy at the inlet temperature, J/kg: helium c_p,He T_in, or for autogenous
+/// pressurization the vapour's ideal-gas part c_p,v T_in + offset on the ullage's reference (so
+/// that the `E_PRESS` ledger closes the energy balance). The inlet's residual enthalpy is left
+/// out: for warm inlet gas it is small (GCH4 at 300 K, 250 kPa: −0.4 % of c_p T), at the coldest
+/// allowed inlet, T_sat(setpoint), a few per cent.
+pub fn pressurant_inlet_enthalpy<T: Real>(g: Group<'_>) -> T {
     g.get(|p| {
-        p.pressurization
-            .map_or(0.0, |ps| HELIUM.cp_j_per_kg_k * ps.gas_temperature_k)
+        p.pressurization.map_or(0.0, |ps| match ps.gas {
+            PressurantGas::Helium => HELIUM.cp_j_per_kg_k * ps.gas_temperature_k,
+            PressurantGas::Autogenous => {
+                let f = p.fluid.props();
+                f.cp_vapor_j_per_kg_k * ps.gas_temperature_k + vapor_energy_offset(p.fluid)
+            }
+        })
     })
+}
+
+/// Share of the pressurant flow that enters as propellant vapour (1 autogenous, 0 helium), per
+/// lane.
+pub fn pressurant_vapor_share<T: Real>(g: Group<'_>) -> T {
+    g.get(Params::pressurant_vapor_share)
 }

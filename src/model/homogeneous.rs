@@ -110,7 +110,7 @@ pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
     out
 }
 
-/// Right-hand side of the equilibrium node: wall heat, helium, venting and outflow.
+/// Right-hand side of the equilibrium node: wall heat, pressurant, venting and outflow.
 pub fn rhs<T: Real>(
     g: Group<'_>,
     s: &State<T>,
@@ -147,10 +147,12 @@ pub fn rhs<T: Real>(
     let (_, _, h_v) = saturated_vapor(g, t);
     let h_u = b.y_vapor * h_v + b.y_vapor.rsub(1.0) * HELIUM.cp_j_per_kg_k * t;
     let h_l = f.h_l_j_per_kg(t);
-    let h_press = boundary::helium_inlet_enthalpy(g);
+    let h_press = boundary::pressurant_inlet_enthalpy(g);
+    // Autogenous pressurant is propellant: it joins M_B (the equilibrium decides its phase).
+    let press_v = b.press_kg_s * boundary::pressurant_vapor_share::<T>(g);
 
-    ds[M_B] = -b.out_kg_s - b.vent_kg_s * b.y_vapor;
-    ds[M_G] = b.press_kg_s - b.vent_kg_s * b.y_vapor.rsub(1.0);
+    ds[M_B] = press_v - b.out_kg_s - b.vent_kg_s * b.y_vapor;
+    ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * b.y_vapor.rsub(1.0);
     ds[H_B] = q_wl + q_wu + b.press_kg_s * h_press - b.vent_kg_s * h_u - b.out_kg_s * h_l;
     boundary::motion_rates(g, s, d, x, ds);
 

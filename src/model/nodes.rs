@@ -285,11 +285,13 @@ pub fn rhs<T: Real>(
     let h_vap_gas = u_vap + vapor.z * rv * t_u;
     let y = b.y_vapor;
     let h_u = y * h_vap_gas + y.rsub(1.0) * HELIUM.cp_j_per_kg_k * t_u;
-    let h_press = boundary::helium_inlet_enthalpy(g);
+    let h_press = boundary::pressurant_inlet_enthalpy(g);
+    // Autogenous pressurant is vapour: it enters M_V (in `tail`), helium enters M_G.
+    let press_v = b.press_kg_s * boundary::pressurant_vapor_share::<T>(g);
     let pu = x.p_ullage_pa;
 
     // Slots evaporation does not move.
-    ds[M_G] = b.press_kg_s - b.vent_kg_s * y.rsub(1.0);
+    ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * y.rsub(1.0);
     ds[M_B] = -m_strat - out_b;
     let mix_w = m_mix * (h_ls - h_lb);
     let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
@@ -306,7 +308,7 @@ pub fn rhs<T: Real>(
         // Evaporating liquid carries h_l + h_fg at T_s; condensing vapour leaves at the gas
         // enthalpy.
         let e_evap = m.max_c(0.0) * (h_ls + h_fg) + m.min_c(0.0) * h_vap_gas;
-        let dm_v = m - b.vent_kg_s * y;
+        let dm_v = m + press_v - b.vent_kg_s * y;
         let dm_s = -m + m_strat - out_s;
         let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls;
         let (dh_s, dv_s) = liquid_node_rates(pu, f_s, dm_s, &layer);

@@ -70,6 +70,10 @@ pub struct Stratification {
     /// Share of the bulk's wall heat that the wall boundary layer lifts into the surface layer
     /// (Tellep & Harper 1963); 0 is the paper's contact-area model, –.
     pub wall_heat_to_layer: f64,
+    /// Initial temperature of the layer, K, in [fluid T_min, T_sat(P_ullage)]; resolved default:
+    /// saturation at the initial vapour partial pressure (the liquid temperature exactly when
+    /// that pressure is P_sat(T_l), today's default composition).
+    pub initial_temperature_k: f64,
 }
 
 /// Slosh–thermal coupling constants (MODEL.md §6).
@@ -83,9 +87,32 @@ pub struct Coupling {
     pub mixing: f64,
 }
 
-/// Helium PD pressurization with a finite bottle (MODEL.md §7).
+/// What the pressurization system admits (MODEL.md §7).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PressurantGas {
+    /// Helium from a bottle: it enters the helium slot `M_G` with h = c_p,He T_in.
+    Helium,
+    /// The propellant's own vapour (GH2, GOX, GCH4, GN2 tapped from the engine or a heat
+    /// exchanger): it enters the vapour slot `M_V` (the homogeneous level: `M_B`) with the
+    /// ullage vapour's enthalpy at the inlet temperature, h = c_p,v T_in + offset.
+    Autogenous,
+}
+
+impl PressurantGas {
+    /// Campaign spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            PressurantGas::Helium => "helium",
+            PressurantGas::Autogenous => "autogenous",
+        }
+    }
+}
+
+/// PD pressurization with a finite supply of helium or of autogenous vapour (MODEL.md §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pressurization {
+    /// The gas admitted (default helium).
+    pub gas: PressurantGas,
     /// Regulated ullage pressure P_ref, Pa.
     pub setpoint_pa: f64,
     /// Proportional gain, kg/(s·Pa).
@@ -98,7 +125,7 @@ pub struct Pressurization {
     pub max_flow_kg_per_s: f64,
     /// Inlet gas temperature, K.
     pub gas_temperature_k: f64,
-    /// Usable helium in the bottle, kg.
+    /// Usable pressurant mass, kg: the helium bottle, or the autogenous gas budget.
     pub bottle_mass_kg: f64,
 }
 
@@ -165,6 +192,9 @@ pub struct Params {
     pub liquid_temperature_k: f64,
     /// Initial ullage pressure (vapour + helium), Pa.
     pub ullage_pressure_pa: f64,
+    /// Initial helium partial pressure, Pa, in [0, `ullage_pressure_pa`]; the vapour holds the
+    /// rest. Resolved default: `ullage_pressure_pa` − min(P_sat(T_l), `ullage_pressure_pa`).
+    pub ullage_helium_partial_pressure_pa: f64,
     /// Initial ullage temperature, K.
     pub ullage_temperature_k: f64,
     pub heat_transfer: HeatTransfer,
@@ -188,6 +218,14 @@ impl Params {
     /// Heat capacity of the tank wall, J/K.
     pub fn wall_heat_capacity_j_per_k(&self) -> f64 {
         self.wall_mass_kg() * self.wall_cp_j_per_kg_k
+    }
+
+    /// Share of the pressurant flow that is propellant vapour: 1 for autogenous, else 0.
+    pub fn pressurant_vapor_share(&self) -> f64 {
+        match self.pressurization.map(|ps| ps.gas) {
+            Some(PressurantGas::Autogenous) => 1.0,
+            _ => 0.0,
+        }
     }
 
     /// Whether `other` can share a lane group with `self`: the same level, propellant and tank

@@ -102,8 +102,61 @@ fn initial_level(p: &Params) -> (f64, f64) {
     )
 }
 
-/// The initial state: liquid at `liquid_temperature_k`, ullage at the initial pressure (real-gas
-/// vapour at P_sat(T_l), helium the rest), wall at the liquid temperature, vehicle at its initial flight state.
+/// Initial vapour partial pressure, Pa: the ullage pressure less the helium partial pressure.
+pub fn initial_vapor_pressure_pa(p: &Params) -> f64 {
+    vapor_partial_pressure_pa(
+        p.fluid,
+        p.ullage_pressure_pa,
+        p.ullage_helium_partial_pressure_pa,
+        p.liquid_temperature_k,
+    )
+}
+
+/// Default helium partial pressure, Pa: the ullage pressure `p_ullage_pa` less the vapour
+/// saturated at the liquid temperature `t_liquid_k` (at most the whole pressure).
+pub fn default_helium_pressure_pa(fluid: Fluid, p_ullage_pa: f64, t_liquid_k: f64) -> f64 {
+    p_ullage_pa - fluid.props().psat_pa(t_liquid_k).min(p_ullage_pa)
+}
+
+/// Vapour partial pressure P_u − P_He, Pa, for ullage pressure `p_ullage_pa` and helium partial
+/// pressure `p_helium_pa`. For the default helium it is min(P_sat(T_l), P_u) itself, not
+/// P_u − (P_u − P_sat) rounded, so that the default composition is today's to the bit.
+pub fn vapor_partial_pressure_pa(
+    fluid: Fluid,
+    p_ullage_pa: f64,
+    p_helium_pa: f64,
+    t_liquid_k: f64,
+) -> f64 {
+    let saturated = fluid.props().psat_pa(t_liquid_k).min(p_ullage_pa);
+    if p_helium_pa == p_ullage_pa - saturated {
+        saturated
+    } else {
+        (p_ullage_pa - p_helium_pa).max(0.0)
+    }
+}
+
+/// Default initial layer temperature, K: saturation at the initial vapour partial pressure
+/// `p_vapor_pa`, clamped to the fluid's range. Exactly the liquid temperature `t_liquid_k` when
+/// the vapour is saturated at it (the default composition), so that campaigns which set none of
+/// the new keys start as before, to the bit.
+pub fn default_layer_temperature_k(fluid: Fluid, t_liquid_k: f64, p_vapor_pa: f64) -> f64 {
+    let f = fluid.props();
+    if p_vapor_pa == f.psat_pa(t_liquid_k) {
+        t_liquid_k
+    } else {
+        f.tsat_k(p_vapor_pa.clamp(f.psat_pa(f.t_min_k), f.psat_pa(f.t_max_k)))
+    }
+}
+
+/// The initial state: liquid at `liquid_temperature_k` with its surface layer at
+/// `stratification.initial_temperature_k`; ullage at `ullage_temperature_k` holding helium at
+/// `ullage_helium_partial_pressure_pa` and real-gas vapour (CoolProp's density at T_u and its
+/// partial pressure, `fluids::vapor`) at the rest of `ullage_pressure_pa`; wall at the
+/// liquid temperature; vehicle at its initial flight state.
+///
+/// The `homogeneous` level is an equilibrium: it keeps the stated propellant (liquid + vapour)
+/// and helium masses, but its vapour is saturated at the liquid temperature whatever partial
+/// pressure the campaign states, and all of it starts at the liquid temperature.
 pub fn initial_state(p: &Params) -> State {
     let f = p.fluid.props();
     let mut s = [0.0; NS];
@@ -113,20 +166,18 @@ pub fn initial_state(p: &Params) -> State {
     let v_l = p.fill_fraction * v_tank;
     let v_u = v_tank - v_l;
     let t_u = p.ullage_temperature_k;
-    let p_v = f.psat_pa(t_l).min(p.ullage_pressure_pa);
-    let p_g = (p.ullage_pressure_pa - p_v).max(0.0);
-    let m_v = match p.fidelity {
-        // The equilibrium node holds real saturated vapour at the liquid temperature.
-        Fidelity::Homogeneous => f.vapor_density_kg_per_m3(t_l, p_v) * v_u,
-        Fidelity::Lumped | Fidelity::TwoMode => f.vapor_density_kg_per_m3(t_u, p_v) * v_u,
-    };
+    let p_g = p.ullage_helium_partial_pressure_pa;
+    let p_v = initial_vapor_pressure_pa(p);
+    let m_v = f.vapor_density_kg_per_m3(t_u, p_v) * v_u;
     let m_g = p_g * v_u / (HELIUM.r_specific_j_per_kg_k() * t_u);
     let m_l = rho * v_l;
     s[M_V] = m_v;
     s[M_G] = m_g;
     match p.fidelity {
         Fidelity::Homogeneous => {
-            // One equilibrium node: liquid, vapour and helium at the liquid temperature.
+            // One equilibrium node: liquid, vapour and helium at the liquid temperature. The
+            // stated propellant inventory is kept; the equilibrium splits it into liquid and
+            // vapour saturated at T_l.
             s[M_B] = m_l + m_v;
             s[H_B] = super::homogeneous::fluid_energy(super::Group::one(p), m_l + m_v, m_g, t_l);
             s[M_V] = 0.0;
@@ -134,15 +185,26 @@ pub fn initial_state(p: &Params) -> State {
         Fidelity::Lumped | Fidelity::TwoMode => {
             let (z, _) = initial_level(p);
             let area = p.tank.interface_area_m2(z).max(1.0e-6);
-            let m_s = (rho * area * p.stratification.initial_thickness_m).min(0.5 * m_l);
+            let t_s = p.stratification.initial_temperature_k;
+            let thickness = p.stratification.initial_thickness_m;
+            // The layer fills its thickness at its own density, the bulk the rest of the liquid
+            // volume (so that the ullage volume, hence the pressure, is the stated one).
+            let (m_s, m_b) = if t_s == t_l {
+                let m_s = (rho * area * thickness).min(0.5 * m_l);
+                (m_s, m_l - m_s)
+            } else {
+                let rho_s = f.rho_l_kg_per_m3(t_s);
+                let v_s = (area * thickness).min(0.5 * v_l);
+                (rho_s * v_s, rho * (v_l - v_s))
+            };
             let u_v = f.cv_vapor_j_per_kg_k * t_u
                 + vapor_energy_offset(p.fluid)
                 + f.vapor_u_res_j_per_kg(t_u, m_v / v_u);
             s[U_U] = m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t_u;
             s[M_S] = m_s;
-            s[H_S] = m_s * f.h_l_j_per_kg(t_l);
-            s[M_B] = m_l - m_s;
-            s[H_B] = (m_l - m_s) * f.h_l_j_per_kg(t_l);
+            s[H_S] = m_s * f.h_l_j_per_kg(t_s);
+            s[M_B] = m_b;
+            s[H_B] = m_b * f.h_l_j_per_kg(t_l);
         }
     }
     let (_, wet) = initial_level(p);
@@ -153,6 +215,12 @@ pub fn initial_state(p: &Params) -> State {
     s[ALT] = p.vehicle.initial_altitude_m;
     s[P_FILT] = p.ullage_pressure_pa;
     s
+}
+
+/// Propellant vapour admitted as autogenous pressurant so far, kg (0 for helium): boil-off counts
+/// the vapour the liquid made, not the vapour the pressurization brought.
+pub fn vapor_pressurant_kg(p: &Params, s: &State) -> f64 {
+    p.pressurant_vapor_share() * s[PRESS_IN]
 }
 
 /// Total propellant + helium mass in the tank plus everything that left or entered, kg:

@@ -595,7 +595,7 @@ impl<'a> LaneRun<'a> {
         let pressure = self.last.derived.p_ullage_pa;
         self.record(self.t, EventKind::PhaseEnd, pressure, f64::NAN);
         let (s, x) = (&self.last_state, &self.last.derived);
-        self.tracker.close_phase(s, x.m_vapor_kg);
+        self.tracker.close_phase(self.params, s, x.m_vapor_kg);
         self.phase += 1;
         let name = &self.campaign.phases[self.phase].name;
         self.tracker.enter_phase(name, self.params, s, &self.last);
@@ -605,7 +605,8 @@ impl<'a> LaneRun<'a> {
         let p = self.params;
         let m_vapor0 = initial_vapor_mass(p, &self.s0);
         let end = self.diverged_state.unwrap_or(self.last_state);
-        self.tracker.close_phase(&end, self.last.derived.m_vapor_kg);
+        self.tracker
+            .close_phase(p, &end, self.last.derived.m_vapor_kg);
         self.end_draw();
         let pressure = self.last.derived.p_ullage_pa;
         self.record(self.t, EventKind::PhaseEnd, pressure, f64::NAN);

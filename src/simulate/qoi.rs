@@ -125,9 +125,13 @@ impl PhaseSummary {
 
 /// Cumulative boil-off and vented mass (vapour and helium) of state `s` with vapour mass
 /// `m_vapor_kg`, counted from the initial vapour mass `m_vapor0`, kg: the definitions of
-/// [`finish_summary`], so that the phases' amounts add up to the mission's.
-pub fn cumulative(s: &State, m_vapor_kg: f64, m_vapor0: f64) -> (f64, f64) {
-    (m_vapor_kg - m_vapor0 + s[VENT_V], s[VENT_V] + s[VENT_G])
+/// [`finish_summary`], so that the phases' amounts add up to the mission's. Boil-off is the
+/// vapour the liquid made: autogenous pressurant vapour (`p`'s) is not counted.
+pub fn cumulative(p: &Params, s: &State, m_vapor_kg: f64, m_vapor0: f64) -> (f64, f64) {
+    (
+        m_vapor_kg - m_vapor0 + s[VENT_V] - vapor_pressurant_kg(p, s),
+        s[VENT_V] + s[VENT_G],
+    )
 }
 
 impl Summary {
@@ -194,7 +198,7 @@ impl Tracker {
         let mut phase = PhaseSummary::start(
             name,
             x.p_ullage_pa,
-            cumulative(s, x.m_vapor_kg, self.m_vapor0),
+            cumulative(p, s, x.m_vapor_kg, self.m_vapor0),
         );
         phase.max_slosh_angle_rad = slosh_angle(Group::one(p), s, &x.slosh).abs();
         self.summary.phases.push(phase);
@@ -202,8 +206,8 @@ impl Tracker {
 
     /// Close the current phase at state `s` with vapour mass `m_vapor_kg` (its end, or the
     /// instance's end inside it).
-    pub(super) fn close_phase(&mut self, s: &State, m_vapor_kg: f64) {
-        let end = cumulative(s, m_vapor_kg, self.m_vapor0);
+    pub(super) fn close_phase(&mut self, p: &Params, s: &State, m_vapor_kg: f64) {
+        let end = cumulative(p, s, m_vapor_kg, self.m_vapor0);
         if let Some(ph) = self.summary.phases.last_mut() {
             ph.close(end);
         }
@@ -277,7 +281,7 @@ pub fn finish_summary(
     q.vented_kg = s[VENT_V] + s[VENT_G];
     q.pressurant_used_kg = s[PRESS_IN];
     q.propellant_drawn_kg = s[OUT];
-    q.boiloff_kg = x.m_vapor_kg - m_vapor0 + s[VENT_V];
+    q.boiloff_kg = cumulative(p, s, x.m_vapor_kg, m_vapor0).0;
     q.final_stratification_k = x.t_layer_k - x.t_bulk_k;
     q.final_pressure_pa = x.p_ullage_pa;
     q.cavitation = q.min_cavitation_margin_m.is_some_and(|m| m < 0.0);

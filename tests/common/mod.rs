@@ -7,12 +7,13 @@ use cryoslosh::model::state::vapor_energy_offset;
 use std::path::PathBuf;
 
 /// Every shipped campaign.
-pub const CAMPAIGNS: [&str; 5] = [
+pub const CAMPAIGNS: [&str; 6] = [
     "lh2_upper_stage",
     "lox_ascent",
     "lch4_coast",
     "mhtb_selfpress",
     "aydelott_sphere",
+    "methalox_autogenous",
 ];
 
 /// The physics levels implemented so far.
