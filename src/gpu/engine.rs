@@ -125,7 +125,7 @@ impl GpuEngine {
     }
 
     /// Steps per instance per dispatch: llvmpipe caps an invocation at 65,535 loop iterations
-    /// in all (about 120 per lumped step), hardware only needs dispatches short enough for a
+    /// in all (about 120 per lumped step, up to ~170 with the ullage temperature Newton), hardware only needs dispatches short enough for a
     /// display watchdog.
     fn step_budget(&self) -> u32 {
         if self.gpu.info.hardware {
