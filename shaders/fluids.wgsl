@@ -181,45 +181,6 @@ fn fl_rho_v_sat(t: f32) -> f32 {
     return exp(fl_poly(FL.ln_rho_v, fl_x_clamped(t)));
 }
 
-// (B_k, tau B_k' / k) of the virial form for density power k (coefficients from offset o = 6 (k-1)),
-// at y = tau - 1: written out, not looped (llvmpipe counts every loop iteration of an invocation).
-fn fl_virial_term(o: i32, k: f32, y: f32, tau: f32) -> vec2<f32> {
-    let c0 = FL.virial[o];
-    let c1 = FL.virial[o + 1];
-    let c2 = FL.virial[o + 2];
-    let c3 = FL.virial[o + 3];
-    let c4 = FL.virial[o + 4];
-    let c5 = FL.virial[o + 5];
-    let b = c0 + y * (c1 + y * (c2 + y * (c3 + y * (c4 + y * c5))));
-    let db = c1 + y * (2.0 * c2 + y * (3.0 * c3 + y * (4.0 * c4 + y * 5.0 * c5)));
-    return vec2<f32>(b, tau * db / k);
-}
-
-// (Z, u_res/(R T)) of the vapour at t (K) and density rho (kg/m^3): the virial form of
-// src/fluids/vapor.rs, Horner in rho/rho_c over the four density powers.
-fn fl_vapor_z_u_res(t: f32, rho: f32) -> vec2<f32> {
-    let tau = FL.t_crit / max(t, 1.0);
-    let y = tau - 1.0;
-    let r = rho * FL.inv_rho_crit;
-    var acc = fl_virial_term(18, 4.0, y, tau) * r;
-    acc = (acc + fl_virial_term(12, 3.0, y, tau)) * r;
-    acc = (acc + fl_virial_term(6, 2.0, y, tau)) * r;
-    acc = (acc + fl_virial_term(0, 1.0, y, tau)) * r;
-    return vec2<f32>(1.0 + acc.x, acc.y);
-}
-
-// The real-gas vapour at (t, rho) with the derivatives an ullage node needs
-// (FluidProps::vapor_state): Z, u_res (J/kg), its T and rho slopes, P and its T and rho slopes.
-struct VaporState {
-    z: f32,
-    u_res: f32,
-    du_res_dt: f32,
-    du_res_drho: f32,
-    p: f32,
-    dp_dt: f32,
-    dp_drho: f32,
-}
-
 // (B_k, B_k', B_k'') of density power k at y = tau - 1, written out (no loop).
 fn fl_virial_b(o: i32, y: f32) -> vec3<f32> {
     let c0 = FL.virial[o];
@@ -232,6 +193,33 @@ fn fl_virial_b(o: i32, y: f32) -> vec3<f32> {
     let b1 = c1 + y * (2.0 * c2 + y * (3.0 * c3 + y * (4.0 * c4 + y * 5.0 * c5)));
     let b2 = 2.0 * c2 + y * (6.0 * c3 + y * (12.0 * c4 + y * 20.0 * c5));
     return vec3<f32>(b, b1, b2);
+}
+
+// (Z, u_res/(R T)) of the vapour at t (K) and density rho (kg/m^3): the virial form of
+// src/fluids/vapor.rs, Horner in rho/rho_c over the four density powers.
+fn fl_vapor_z_u_res(t: f32, rho: f32) -> vec2<f32> {
+    let tau = FL.t_crit / max(t, 1.0);
+    let y = tau - 1.0;
+    let r = rho * FL.inv_rho_crit;
+    let b4 = fl_virial_b(18, y);
+    let b3 = fl_virial_b(12, y);
+    let b2 = fl_virial_b(6, y);
+    let b1 = fl_virial_b(0, y);
+    let z = (((b4.x * r + b3.x) * r + b2.x) * r + b1.x) * r;
+    let u = (((0.25 * b4.y * r + b3.y / 3.0) * r + 0.5 * b2.y) * r + b1.y) * r;
+    return vec2<f32>(1.0 + z, tau * u);
+}
+
+// The real-gas vapour at (t, rho) with the derivatives an ullage node needs
+// (FluidProps::vapor_state): Z, u_res (J/kg), its T and rho slopes, P and its T and rho slopes.
+struct VaporState {
+    z: f32,
+    u_res: f32,
+    du_res_dt: f32,
+    du_res_drho: f32,
+    p: f32,
+    dp_dt: f32,
+    dp_drho: f32,
 }
 
 fn fl_vapor_state(t_in: f32, rho: f32) -> VaporState {

@@ -24,13 +24,7 @@ import CoolProp
 import CoolProp.CoolProp as CP
 import numpy as np
 
-PROPELLANTS = [
-    ("LH2", "ParaHydrogen"),
-    ("LOX", "Oxygen"),
-    ("LCH4", "Methane"),
-    ("LN2", "Nitrogen"),
-    ("nLH2", "Hydrogen"),
-]
+from coolprop_fixtures import PROPELLANTS  # (file stem, CoolProp fluid), one list for both tools
 N = 41
 
 
