@@ -149,10 +149,9 @@ fn vapor_mass(m_p: f32, t: f32) -> f32 {
 // Saturated real-gas vapour at t: (rho_v, u_v, h_v) as homogeneous.rs::saturated_vapor.
 fn saturated_vapor(t: f32) -> vec3<f32> {
     let rho_v = fl_rho_v_sat(t);
-    let zu = fl_vapor_z_u_res(t, rho_v);
-    let rt = fl_r_specific() * t;
-    let u_v = FL.cv_vapor * t + FL.vapor_offset + zu.y * rt;
-    return vec3<f32>(rho_v, u_v, u_v + zu.x * rt);
+    let v = fl_vapor_state(t, rho_v);
+    let u_v = FL.cv_vapor * t + FL.vapor_offset + v.u_res;
+    return vec3<f32>(rho_v, u_v, u_v + v.z * fl_r_specific() * t);
 }
 
 // Internal energy of all fluid at t: liquid u_l = h_l - P_sat/rho_l, saturated vapour, helium.

@@ -195,21 +195,6 @@ fn fl_virial_b(o: i32, y: f32) -> vec3<f32> {
     return vec3<f32>(b, b1, b2);
 }
 
-// (Z, u_res/(R T)) of the vapour at t (K) and density rho (kg/m^3): the virial form of
-// src/fluids/vapor.rs, Horner in rho/rho_c over the four density powers.
-fn fl_vapor_z_u_res(t: f32, rho: f32) -> vec2<f32> {
-    let tau = FL.t_crit / max(t, 1.0);
-    let y = tau - 1.0;
-    let r = rho * FL.inv_rho_crit;
-    let b4 = fl_virial_b(18, y);
-    let b3 = fl_virial_b(12, y);
-    let b2 = fl_virial_b(6, y);
-    let b1 = fl_virial_b(0, y);
-    let z = (((b4.x * r + b3.x) * r + b2.x) * r + b1.x) * r;
-    let u = (((0.25 * b4.y * r + b3.y / 3.0) * r + 0.5 * b2.y) * r + b1.y) * r;
-    return vec2<f32>(1.0 + z, tau * u);
-}
-
 // The real-gas vapour at (t, rho) with the derivatives an ullage node needs
 // (FluidProps::vapor_state): Z, u_res (J/kg), its T and rho slopes, P and its T and rho slopes.
 struct VaporState {

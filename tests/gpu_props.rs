@@ -45,7 +45,7 @@ type FluidFn = fn(&FluidProps, f64) -> f64;
 type TankFn = fn(&Tank, f64) -> f64;
 
 /// WGSL call (argument `a`), input grid, Rust reference and max relative error allowed.
-const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 20] = [
+const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 24] = [
     ("fl_psat_pa(a)", Grid::LiquidT, |f, t| f.psat_pa(t), 5e-6),
     (
         "fl_dpsat_dt(a)",
@@ -88,16 +88,40 @@ const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 20] = [
         5e-6,
     ),
     (
-        "fl_vapor_z_u_res(a, fl_rho_v_sat(a)).x",
+        "fl_vapor_state(a, fl_rho_v_sat(a)).z",
         Grid::LiquidT,
         |f, t| f.vapor_z_u_res(t, f.rho_v_sat_kg_per_m3(t)).0,
         2e-6,
     ),
     (
-        "fl_vapor_z_u_res(a, fl_rho_v_sat(a)).y",
+        "fl_vapor_state(a, fl_rho_v_sat(a)).u_res",
         Grid::LiquidT,
-        |f, t| f.vapor_z_u_res(t, f.rho_v_sat_kg_per_m3(t)).1,
+        |f, t| f.vapor_u_res_j_per_kg(t, f.rho_v_sat_kg_per_m3(t)),
         3e-5,
+    ),
+    (
+        "fl_vapor_state(a, fl_rho_v_sat(a)).du_res_dt",
+        Grid::LiquidT,
+        |f, t| f.vapor_state(t, f.rho_v_sat_kg_per_m3(t)).du_res_dt,
+        1e-4,
+    ),
+    (
+        "fl_vapor_state(a, fl_rho_v_sat(a)).du_res_drho",
+        Grid::LiquidT,
+        |f, t| f.vapor_state(t, f.rho_v_sat_kg_per_m3(t)).du_res_drho,
+        1e-4,
+    ),
+    (
+        "fl_vapor_state(a, fl_rho_v_sat(a)).dp_dt",
+        Grid::LiquidT,
+        |f, t| f.vapor_state(t, f.rho_v_sat_kg_per_m3(t)).dp_dt,
+        1e-5,
+    ),
+    (
+        "fl_vapor_state(a, fl_rho_v_sat(a)).dp_drho",
+        Grid::LiquidT,
+        |f, t| f.vapor_state(t, f.rho_v_sat_kg_per_m3(t)).dp_drho,
+        1e-5,
     ),
     ("fl_mu_l(a)", Grid::LiquidT, |f, t| f.mu_l_pa_s(t), 5e-6),
     ("fl_k_v(a)", Grid::GasT, |f, t| f.k_v_w_per_m_k(t), 5e-6),
