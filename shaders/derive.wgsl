@@ -162,17 +162,32 @@ fn fluid_energy(m_p: f32, m_g: f32, t: f32) -> f32 {
     return (m_p - m_v) * u_l + m_v * u_v + m_g * HE.cv * t;
 }
 
-/// Newton on E(T) = e. The f32 slope is a central difference over ±1 mK (the CPU's ±1e-6 T
-/// would be rounding noise in f32); the root is the same.
+/// Newton on E(T) = e safeguarded by bisection on [t_min - 3 K, t_max + 3 K]
+/// (homogeneous.rs::temperature). The f32 slope is a central difference over ±1 mK (the CPU's
+/// ±1e-6 T would be rounding noise in f32); the root is the same.
 fn homogeneous_temperature(m_p: f32, m_g: f32, e: f32) -> f32 {
-    let lo = FL.t_min_hi;
-    let hi = FL.t_max;
-    var t = clamp(fl_t_from_h_l(e / m_p), lo, hi);
-    for (var it = 0u; it < 8u; it++) {
+    var lo = FL.t_min_hi - 3.0;
+    var hi = FL.t_max + 3.0;
+    var t = clamp(fl_t_from_h_l(e / m_p), FL.t_min_hi, FL.t_max);
+    for (var it = 0u; it < 32u; it++) {
         let h = 1.0e-3;
         let r = fluid_energy(m_p, m_g, t) - e;
         let slope = (fluid_energy(m_p, m_g, t + h) - fluid_energy(m_p, m_g, t - h)) / (2.0 * h);
-        t = clamp(t - r / slope, lo, hi);
+        if r > 0.0 {
+            hi = t;
+        } else if r < 0.0 {
+            lo = t;
+        } else {
+            break;
+        }
+        let newton = t - r / slope;
+        let inside = newton > lo && newton < hi && slope > 0.0;
+        let next = select(0.5 * (lo + hi), newton, inside);
+        if (inside && abs(newton - t) <= 2e-7 * t) || hi - lo <= 2e-7 * t {
+            t = next;
+            break;
+        }
+        t = next;
     }
     return t;
 }

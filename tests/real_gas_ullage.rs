@@ -80,3 +80,21 @@ fn pure_vapour_ullage_starts_with_coolprop_density_and_pressure() {
     }
     eprintln!("largest vapour-density deviation from CoolProp at t = 0: {worst:.2e}");
 }
+
+/// A vapour partial pressure above P_sat(t_max) passed validation and then diverged at the first
+/// step (the layer cannot saturate it inside the fits; issue 13's attack: LOX, pure vapour at
+/// 4 MPa). It is bad input, named by key, and so is an autogenous setpoint above P_sat(t_max).
+#[test]
+fn vapour_above_the_fits_is_bad_input() {
+    let base = "[campaign]\nfidelity = \"lumped\"\n[tank]\nshape = \"sphere\"\nradius_m = 1.0\nheat_leak_w = 10.0\nmeop_pa = 1.0e7\n[propellant]\nfluid = \"LOX\"\nfill_fraction = 0.5\ntemperature_k = 100.0\n[ullage]\npressure_pa = 4.0e6\ntemperature_k = 200.0\nhelium_partial_pressure_pa = 0.0\n[[phases]]\nkind = \"hold\"\nduration_s = 10.0\ndt_s = 0.5\n";
+    let e = Campaign::from_text(Path::new("hot.toml"), base, &[]).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("ullage.helium_partial_pressure_pa")
+            && msg.contains("top of LOX's property fits"),
+        "{msg}"
+    );
+    // With 0.8 MPa of helium the vapour is 3.2 MPa, inside the fits: accepted.
+    let sets = ["ullage.helium_partial_pressure_pa=800000".to_string()];
+    assert!(Campaign::from_text(Path::new("hot.toml"), base, &sets).is_ok());
+}

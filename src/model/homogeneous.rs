@@ -16,7 +16,7 @@ use super::state::*;
 use super::thermal;
 use super::Group;
 use crate::fluids::HELIUM;
-use crate::lanes::{Mask, Real};
+use crate::lanes::{c, Mask, Real};
 
 /// Vapour mass at temperature `t` when `m_p` of propellant fills `v_tank` in equilibrium:
 /// m_v = ρ_v (V − m_p/ρ_l) / (1 − ρ_v/ρ_l), ρ_v the saturated-vapour density.
@@ -53,24 +53,45 @@ pub fn saturated_vapor<T: Real>(g: Group<'_>, t: T) -> (T, T, T) {
     (rho_v, u_v, u_v + z * rt)
 }
 
+/// How far beyond the fitted range (K) the equilibrium temperature is still solved: a state whose
+/// energy lies past the range then shows a bulk temperature out of range, which `simulate` reports
+/// as a divergence (it allows 2 K), instead of a temperature pinned at the end of the range while
+/// heat or vented latent heat silently vanishes (issue 13's attack: 20 kW into a LOX tank at
+/// 3.27 MPa left P frozen at P_sat(t_max)).
+pub const RANGE_MARGIN_K: f64 = 3.0;
+
+/// Iteration cap of [`temperature`] (Newton steps plus bisections).
+const MAX_ITER: usize = 80;
+
 /// Equilibrium temperature for the conserved propellant mass, helium mass and fluid energy:
-/// Newton on E(T) with a central-difference slope, started from the all-liquid temperature,
-/// bracketed to the fluid's range. A lane stops moving once its step is below 1e-13 T.
+/// Newton on E(T) (increasing in T) with a central-difference slope, safeguarded by bisection on
+/// the bracket [t_min − 3 K, t_max + 3 K] that each evaluation narrows; started from the
+/// all-liquid temperature. The bracket makes it converge from any start: at low fills most of the
+/// energy is in the vapour and that start lies far above the root (issue 13's attack: at 10 % fill
+/// the unguarded Newton stuck at t_max and flashed the load to vapour). A lane stops moving once
+/// its Newton step, or its bracket, is below 1e-13 T.
 pub fn temperature<T: Real>(g: Group<'_>, m_p: T, m_g: T, e: T) -> T {
     let fluid = g.shared().fluid;
     let f = fluid.props();
-    let (lo, hi) = (f.t_min_k, f.t_max_k);
-    let mut t = fluid.t_from_h_l_k(e / m_p).clamp_c(lo, hi);
+    let mut lo = T::splat(f.t_min_k - RANGE_MARGIN_K);
+    let mut hi = T::splat(f.t_max_k + RANGE_MARGIN_K);
+    let mut t = fluid.t_from_h_l_k(e / m_p).clamp_c(f.t_min_k, f.t_max_k);
     let mut done = T::Mask::splat(false);
-    for _ in 0..40 {
+    for _ in 0..MAX_ITER {
         let h = t * 1.0e-6;
         let r = fluid_energy(g, m_p, m_g, t) - e;
         let slope =
             (fluid_energy(g, m_p, m_g, t + h) - fluid_energy(g, m_p, m_g, t - h)) / (h * 2.0);
-        let step = r / slope;
-        let next = (t - step).clamp_c(lo, hi);
+        let moving = !done;
+        hi = T::select(moving & r.gt(c(0.0)), t, hi);
+        lo = T::select(moving & r.lt(c(0.0)), t, lo);
+        let newton = t - r / slope;
+        let inside = newton.gt(lo) & newton.lt(hi) & slope.gt(c(0.0));
+        let converged = inside & (newton - t).abs().le(t * 1.0e-13);
+        let bracketed = (hi - lo).le(t * 1.0e-13);
+        let next = T::select(inside, newton, (lo + hi) * 0.5);
         t = T::select(done, t, next);
-        done = done | step.abs().le(next * 1.0e-13);
+        done = done | converged | bracketed | r.is(|v| v == 0.0 || v.is_nan());
         if done.all() {
             break;
         }

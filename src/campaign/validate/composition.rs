@@ -38,6 +38,25 @@ pub(super) fn composition(
         p_ullage_pa,
     )?;
     let p_v = vapor_partial_pressure_pa(fluid, p_ullage_pa, p_he, t_liquid_k);
+    // The surface layer saturates the vapour: above P_sat(t_max) it would have to leave the
+    // fluid's fitted range at the first step (issue 13's attack: LOX, pure vapour at 4 MPa).
+    let p_v_max = f.psat_pa(f.t_max_k);
+    if p_v > p_v_max * (1.0 + 1.0e-12) {
+        return Err(c.err(
+            helium_key,
+            number(p_he),
+            format!(
+                "at least {} Pa: the vapour partial pressure ullage.pressure_pa − {helium_key} = {} Pa \
+                 is above {} Pa, P_sat at {} K, the top of {}'s property fits (0.93 T_crit); add \
+                 helium or lower ullage.pressure_pa",
+                number(p_ullage_pa - p_v_max),
+                number(p_v),
+                number(p_v_max),
+                number(f.t_max_k),
+                fluid.name()
+            ),
+        ));
+    }
     if t_ullage_k < f.t_max_k {
         let p_sat_u = f.psat_pa(t_ullage_k);
         if p_v > p_sat_u * (1.0 + 1.0e-12) {
@@ -84,6 +103,21 @@ pub(super) fn pressurant_gas(
     };
     if gas == PressurantGas::Autogenous {
         let f = fluid.props();
+        // Saturation at the setpoint must lie inside the fits for the inlet bound below to hold.
+        let p_max = f.psat_pa(f.t_max_k);
+        if ps.setpoint_pa > p_max {
+            return Err(c.err(
+                "pressurization.setpoint_pa",
+                number(ps.setpoint_pa),
+                format!(
+                    "at most {} Pa with pressurization.gas = \"autogenous\": P_sat at {} K, the top \
+                     of {}'s property fits (0.93 T_crit)",
+                    number(p_max),
+                    number(f.t_max_k),
+                    fluid.name()
+                ),
+            ));
+        }
         let t_sat = f.tsat_k(
             ps.setpoint_pa
                 .clamp(f.psat_pa(f.t_min_k), f.psat_pa(f.t_max_k)),
