@@ -163,7 +163,7 @@ pub(super) fn wall_coefficients<T: Real>(
 }
 
 /// Enthalpy change of a liquid node whose own volume change does work P dV on the ullage:
-/// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² c_p). Returns (dH/dt, dV/dt).
+/// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² dh_l/dT). Returns (dH/dt, dV/dt).
 fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits<T>) -> (T, T) {
     let (rho, h) = (n.rho, n.h);
     let beta = -n.drho_dt / (rho * rho * n.dh_dt);
