@@ -307,14 +307,61 @@ impl GpuTank {
     }
 }
 
+/// WGSL constants of the domed-tank slosh tables, generated from [`crate::model::slosh_table`]
+/// (layouts and constants generated, not copied): the grid sizes and steps as `SLOSH_*`
+/// constants and the three tables (bottom dome, barrel, top dome) in one
+/// `const SLOSH_TABLE: array<f32, N>` with `SLOSH_BARREL_AT` and `SLOSH_TOP_AT` the offsets of
+/// the second and third. `shaders/slosh_table.wgsl` interpolates them as
+/// `model::slosh::domed_modes` does.
+pub fn slosh_table_wgsl() -> String {
+    use crate::model::slosh::{MIN_SURFACE_RADIUS_RATIO, XI};
+    use crate::model::slosh_table as t;
+    let mut s = String::new();
+    for (name, v) in [
+        ("SLOSH_NK", t::NK),
+        ("SLOSH_N_SIGMA", t::N_SIGMA),
+        ("SLOSH_N_BARREL", t::N_BARREL),
+        ("SLOSH_N_TOP", t::N_TOP),
+        ("SLOSH_N_BETA", t::N_BETA),
+        ("SLOSH_BARREL_AT", t::BOTTOM.len()),
+        ("SLOSH_TOP_AT", t::BOTTOM.len() + t::BARREL.len()),
+    ] {
+        s += &format!("const {name}: u32 = {v}u;\n");
+    }
+    for (name, v) in [
+        ("SLOSH_LOG2K_0", t::LOG2K_0),
+        ("SLOSH_LOG2K_STEP", t::LOG2K_STEP),
+        ("SLOSH_BARREL_H_MAX", t::BARREL_H_MAX),
+        ("SLOSH_TOP_U_MAX", t::TOP_U_MAX),
+        ("SLOSH_BETA_RATE", 2.0 * XI[0]),
+        ("SLOSH_RS_MIN", MIN_SURFACE_RADIUS_RATIO),
+    ] {
+        s += &format!("const {name}: f32 = {v:e};\n");
+    }
+    let all: Vec<String> = [&t::BOTTOM[..], &t::BARREL[..], &t::TOP[..]]
+        .concat()
+        .iter()
+        .map(|&v| format!("{:e}", v as f32))
+        .collect();
+    s += &format!(
+        "const SLOSH_TABLE: array<f32, {n}> = array<f32, {n}>({});\n",
+        all.join(", "),
+        n = all.len()
+    );
+    s
+}
+
 /// WGSL source of the property library: the `GpuFluid`, `GpuGas` and `GpuTank` declarations,
-/// then `shaders/fluids.wgsl` and `shaders/geometry.wgsl`. Kernels append their entry points
+/// the slosh table constants ([`slosh_table_wgsl`]), then `shaders/fluids.wgsl`,
+/// `shaders/geometry.wgsl` and `shaders/slosh_table.wgsl`. Kernels append their entry points
 /// and assign `FL`, `HE` and `TANK` once per invocation.
 pub fn props_wgsl() -> String {
     let mut s = GpuFluid::wgsl();
     s += &GpuGas::wgsl();
     s += &GpuTank::wgsl();
+    s += &slosh_table_wgsl();
     s += include_str!("../../shaders/fluids.wgsl");
     s += include_str!("../../shaders/geometry.wgsl");
+    s += include_str!("../../shaders/slosh_table.wgsl");
     s
 }
