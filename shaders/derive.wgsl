@@ -55,25 +55,16 @@ fn fill_level(x: ptr<function, Derived>, v_liquid: f32) {
 }
 
 // Modal masses, lengths and frequencies of the tank's own shape: the closed form for a
-// cylinder, the generated tables for a domed tank (shaders/slosh_table.wgsl). The damping
+// cylinder, the generated tables for a domed tank (shaders/slosh_modes.wgsl). The damping
 // correlations (cylinder) take the equivalent cylinder: free-surface radius, depth V / (pi r^2).
 fn slosh_params(v_liquid: f32, m_liquid: f32, z: f32, a_ax: f32, nu: f32) -> Slosh {
     let radius = tank_radius();
     let r = max(tank_surface_radius(z), SLOSH_RS_MIN * radius);
     let hr = v_liquid / (PI * r * r) / r;
     let zeta = wall_damping(nu, r, a_ax, hr) + baffle_damping(r, z) + P.extra_damping;
-    var w2: vec2<f32>;
-    var mr: vec2<f32>;
-    if TANK.domed == 1u {
-        let q = tank_slosh_modes(z, v_liquid);
-        w2 = q.xz;
-        mr = q.yw;
-    } else {
-        let m0 = mode_shape(XI_0, hr);
-        let m1 = mode_shape(XI_1, hr);
-        w2 = vec2<f32>(m0.z, m1.z);
-        mr = vec2<f32>(m0.x, m1.x);
-    }
+    let q = tank_slosh_modes(z, v_liquid);
+    let w2 = q.xz;
+    let mr = q.yw;
     var out: Slosh;
     out.mass = mr * m_liquid;
     out.length = radius / w2;

@@ -235,7 +235,17 @@ fn emptying_sphere_tends_to_the_pendulum_about_its_centre() {
         .map(|&f| modes_at_fill(&tank, f)[0].omega2_ratio)
         .collect();
     eprintln!("fills {fills:?}: ω² R/g {w2:?}");
-    assert!(w2[2] < 1.02, "1 % fill: {}", w2[2]);
+    // 1 % of the volume is 0.116 R deep: the solver gives 1.0412 there (the fixture's 1 % row),
+    // 1.0067 at 1 % of the height (0.02 R deep).
+    assert!((w2[2] / 1.0412 - 1.0).abs() < 2e-3, "1 % fill: {}", w2[2]);
+    let z = 0.02 * tank.radius_m();
+    let at_1pct_height = tank_modes(
+        &TankLanes::<f64>::gather(|_| &tank),
+        z,
+        tank.liquid_volume_m3(z),
+    )[0]
+    .omega2_ratio;
+    assert!(at_1pct_height < 1.01, "{at_1pct_height}");
     for pair in w2.windows(2) {
         assert!(pair[1] <= pair[0] && pair[1] >= 1.0, "{w2:?}");
     }
@@ -291,7 +301,7 @@ fn domed_tables_match_the_solver_at_twice_their_resolution() {
         .filter(|r| (0.05 - 1e-9..=0.95 + 1e-9).contains(&r.fill))
         .collect();
     assert!(rows.len() >= 4 * 19 * 2, "{} rows", rows.len());
-    let mut worst = [(0.0_f64, String::new()); 2];
+    let mut worst = [(0.0_f64, String::new()), (0.0_f64, String::new())];
     for shape in [Shape::Sphere, Shape::Capsule] {
         let of_shape: Vec<&Reference> = rows.iter().filter(|r| r.shape == shape).collect();
         for chunk in of_shape.chunks(WIDTH) {

@@ -10,7 +10,7 @@ below is the one src/model/slosh.rs and shaders/model.wgsl implement: change all
 Tables (all lengths over the tank radius R; k = dome ratio, L = barrel length):
   BOTTOM[k][sigma]   surface in the bottom dome, sigma = sqrt(z / (k R)) in [0, 1]:
                      (omega^2 R/g, m_n/m_l) for modes 1, 2.
-  BARREL[k][h]       surface in the barrel, h = (z - k R)/R in [0, 3]:
+  BARREL[k][h]       surface in the barrel, h = (z - k R)/R = 3 x^2, x in [0, 1] (nodes uniform in x):
                      (omega^2 R/g, m_n/(rho R^3)); deeper is the deep-barrel limit (clamped).
   TOP[k][beta][u]    surface in the top dome, u = (z - k R - L)/(k R) in [0, 0.96], r_s = R sqrt(1-u^2):
                      (omega^2 r_s/g, m_n/(rho r_s^3)); beta = exp(-2 xi_1 L / R) carries the
@@ -32,7 +32,7 @@ from slosh_fem import XI, Wall, solve  # noqa: E402
 N_TABLE = 16
 LOG2K = np.arange(-2.0, 1.0 + 1e-9, 0.25)  # k = 0.25 .. 2
 SIGMA = np.linspace(0.0, 1.0, 21)
-HBAR = np.linspace(0.0, 3.0, 25)
+HBAR = 3.0 * np.linspace(0.0, 1.0, 25) ** 2  # dense above the bottom dome
 UTOP = np.linspace(0.0, 0.96, 17)
 BETA = np.linspace(0.0, 1.0, 5)
 L_DEEP = 3.0
@@ -115,9 +115,11 @@ def linear(nodes_count, x):
     return [i, i + 1], [1 - t, t]
 
 
-def interp_fill(tab, grid, x):
-    """tab[..., node, 4] along its fill axis at physical coordinate x."""
-    idx, w = catmull(len(grid), (x - grid[0]) / (grid[1] - grid[0]))
+def interp_fill(tab, grid, x, coord=None):
+    """tab[..., node, 4] along its fill axis at physical coordinate x (grid coordinate coord)."""
+    if coord is None:
+        coord = (x - grid[0]) / (grid[1] - grid[0])
+    idx, w = catmull(len(grid), coord)
     return sum(wi * tab[..., ii, :] for ii, wi in zip(idx, w))
 
 
@@ -133,7 +135,7 @@ def model(tabs, k, L, zs):
             q = interp_fill(bottom[i], SIGMA, math.sqrt(max(zs, 0.0) / k))
             val = q
         elif zs < k + L:
-            q = interp_fill(barrel[i], HBAR, zs - k)
+            q = interp_fill(barrel[i], HBAR, None, math.sqrt((zs - k) / HBAR[-1]) * (len(HBAR) - 1))
             val = np.array([q[0], q[1] / v, q[2], q[3] / v])
         else:
             u = min((zs - k - L) / k, 1.0)
@@ -210,7 +212,7 @@ pub const LOG2K_STEP: f64 = {float(LOG2K[1] - LOG2K[0])!r};
 pub const NK: usize = {len(LOG2K)};
 /// Nodes along sigma = sqrt(z / (k R)) in [0, 1] (bottom dome).
 pub const N_SIGMA: usize = {len(SIGMA)};
-/// Nodes along h = (z − k R) / R in [0, {float(HBAR[-1])!r}] (barrel).
+/// Nodes along x = √(h / BARREL_H_MAX) in [0, 1], h = (z − k R) / R (barrel).
 pub const N_BARREL: usize = {len(HBAR)};
 /// Deepest tabulated barrel depth over R; deeper surfaces take its values.
 pub const BARREL_H_MAX: f64 = {float(HBAR[-1])!r};
@@ -227,7 +229,7 @@ pub const TOP_DEEP_L: f64 = {float(L_DEEP)!r};
 #[rustfmt::skip]
 pub const BOTTOM: [f64; {bottom.size}] = [{fmt(bottom)}];
 
-/// Barrel: [k][h] → (ω² R/g, m_n/(ρ R³)) per mode.
+/// Barrel: [k][x] → (ω² R/g, m_n/(ρ R³)) per mode.
 #[rustfmt::skip]
 pub const BARREL: [f64; {barrel.size}] = [{fmt(barrel)}];
 
@@ -273,6 +275,12 @@ def main():
         if ("--check" in sys.argv or "--cached" in sys.argv) and os.path.exists(cache):
             d = np.load(cache)
             tabs = (d["bottom"], d["barrel"], d["top"])
+            if "--barrel" in sys.argv:
+                ks = 2.0**LOG2K
+                jobs = [("barrel", k, L_DEEP + 1.0, h, N_TABLE) for k in ks for h in HBAR]
+                barrel = np.array(pool.map(quantities, jobs)).reshape(len(ks), len(HBAR), 4)
+                tabs = (tabs[0], barrel, tabs[2])
+                np.savez(cache, bottom=tabs[0], barrel=tabs[1], top=tabs[2])
         else:
             tabs = build(pool)
             np.savez(cache, bottom=tabs[0], barrel=tabs[1], top=tabs[2])

@@ -9,7 +9,7 @@ use crate::model::flight::{
     Excitation, Phase, PhaseKind, EARTH_RADIUS_M, G0, P_SEA_LEVEL_PA, RHO_SEA_LEVEL, SCALE_HEIGHT_M,
 };
 use crate::model::params::{Fidelity, Params};
-use crate::model::slosh::{MIN_AXIAL_ACCEL, XI};
+use crate::model::slosh::MIN_AXIAL_ACCEL;
 use crate::model::state::{self, State, NS};
 
 /// Optional closures present in [`GpuParams::flags`].
@@ -531,8 +531,6 @@ pub fn constants_wgsl() -> String {
         ("SCALE_HEIGHT_M", SCALE_HEIGHT_M),
         ("EARTH_RADIUS_M", EARTH_RADIUS_M),
         ("MIN_AXIAL_ACCEL", MIN_AXIAL_ACCEL),
-        ("XI_0", XI[0]),
-        ("XI_1", XI[1]),
         ("R_UNIVERSAL", R_UNIVERSAL),
         ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
         ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),

@@ -311,10 +311,10 @@ impl GpuTank {
 /// (layouts and constants generated, not copied): the grid sizes and steps as `SLOSH_*`
 /// constants and the three tables (bottom dome, barrel, top dome) in one
 /// `const SLOSH_TABLE: array<f32, N>` with `SLOSH_BARREL_AT` and `SLOSH_TOP_AT` the offsets of
-/// the second and third. `shaders/slosh_table.wgsl` interpolates them as
+/// the second and third. `shaders/slosh_modes.wgsl` interpolates them as
 /// `model::slosh::domed_modes` does.
 pub fn slosh_table_wgsl() -> String {
-    use crate::model::slosh::{MIN_SURFACE_RADIUS_RATIO, XI};
+    use crate::model::slosh::{MIN_DEPTH_RATIO, MIN_SURFACE_RADIUS_RATIO, XI};
     use crate::model::slosh_table as t;
     let mut s = String::new();
     for (name, v) in [
@@ -335,6 +335,9 @@ pub fn slosh_table_wgsl() -> String {
         ("SLOSH_TOP_U_MAX", t::TOP_U_MAX),
         ("SLOSH_BETA_RATE", 2.0 * XI[0]),
         ("SLOSH_RS_MIN", MIN_SURFACE_RADIUS_RATIO),
+        ("SLOSH_XI_0", XI[0]),
+        ("SLOSH_XI_1", XI[1]),
+        ("SLOSH_MIN_DEPTH_RATIO", MIN_DEPTH_RATIO),
     ] {
         s += &format!("const {name}: f32 = {v:e};\n");
     }
@@ -353,7 +356,7 @@ pub fn slosh_table_wgsl() -> String {
 
 /// WGSL source of the property library: the `GpuFluid`, `GpuGas` and `GpuTank` declarations,
 /// the slosh table constants ([`slosh_table_wgsl`]), then `shaders/fluids.wgsl`,
-/// `shaders/geometry.wgsl` and `shaders/slosh_table.wgsl`. Kernels append their entry points
+/// `shaders/geometry.wgsl` and `shaders/slosh_modes.wgsl`. Kernels append their entry points
 /// and assign `FL`, `HE` and `TANK` once per invocation.
 pub fn props_wgsl() -> String {
     let mut s = GpuFluid::wgsl();
@@ -362,6 +365,6 @@ pub fn props_wgsl() -> String {
     s += &slosh_table_wgsl();
     s += include_str!("../../shaders/fluids.wgsl");
     s += include_str!("../../shaders/geometry.wgsl");
-    s += include_str!("../../shaders/slosh_table.wgsl");
+    s += include_str!("../../shaders/slosh_modes.wgsl");
     s
 }

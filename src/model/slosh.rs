@@ -150,7 +150,8 @@ fn column(data: &[f64], base: usize, n: usize, x: f64) -> [f64; 4] {
 ///
 /// Interpolation: linear in log₂ k between the nodes k = 0.25 · 2^(j/4) (0.25 … 2), Catmull-Rom
 /// along the fill coordinate of the region holding the surface (bottom dome √(z/kR), barrel
-/// depth above the bottom dome, top-dome height), linear in β = exp(−2 ξ_1 L/R) in the top dome.
+/// √(h/3R) with h the depth above the bottom dome, top-dome height u), linear in
+/// β = exp(−2 ξ_1 L/R) in the top dome.
 /// Interpolation error against the solver: see docs/PHYSICS.md (< 0.3 % inside the ranges).
 /// Outside the ranges: k < 0.25 or k > 2 take the end node's table at the tank's own
 /// normalised fill; a barrel surface more than 3 R above the bottom dome takes the deep values
@@ -169,7 +170,7 @@ pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [Mod
         }
         [1.0; 4]
     } else if z < k + l {
-        let x = (z - k) / table::BARREL_H_MAX * (table::N_BARREL - 1) as f64;
+        let x = ((z - k) / table::BARREL_H_MAX).sqrt() * (table::N_BARREL - 1) as f64;
         for (&i, w) in kn.iter().zip(kw) {
             let c = column(&table::BARREL, 4 * i * table::N_BARREL, table::N_BARREL, x);
             q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);

@@ -1,6 +1,7 @@
-// Slosh modes of domed tanks (capsule, sphere) from the generated SLOSH_TABLE: the f32 mirror
-// of model::slosh::domed_modes (src/model/slosh.rs); change both. Prepended by the host:
-// the SLOSH_* constants and SLOSH_TABLE (src/gpu/props.rs::slosh_table_wgsl), TANK.
+// The first two slosh modes of TANK: the f32 mirror of model::slosh::tank_modes, mode_shape
+// and domed_modes (src/model/slosh.rs); change both. Cylinders by the SP-106 closed form,
+// domed tanks (capsule, sphere) from the generated SLOSH_TABLE. Prepended by the host: the
+// SLOSH_* constants and SLOSH_TABLE (src/gpu/props.rs::slosh_table_wgsl), GpuTank and TANK.
 
 struct SloshNodes {
     i: vec4<u32>,
@@ -42,9 +43,25 @@ fn slosh_column(base: u32, n: u32, x: f32) -> vec4<f32> {
     return out;
 }
 
-// (omega_1^2 R/a, m_1/m_l, omega_2^2 R/a, m_2/m_l) of TANK (domed) with the free surface at
-// z (m) above the bottom pole over v (m3) of liquid.
+// (omega^2 R/a, m_n/m_l) of a flat-bottom cylinder's mode with root xi at depth ratio h/R.
+fn slosh_cylinder_mode(xi: f32, h_over_r: f32) -> vec2<f32> {
+    let hr = max(h_over_r, SLOSH_MIN_DEPTH_RATIO);
+    let th = tanh(xi * hr);
+    return vec2<f32>(xi * th, 2.0 * th / (xi * (xi * xi - 1.0) * hr));
+}
+
+// (omega_1^2 R/a, m_1/m_l, omega_2^2 R/a, m_2/m_l) of TANK with the free surface at z (m) above
+// the bottom over v (m3) of liquid; R the tank radius.
 fn tank_slosh_modes(z: f32, v: f32) -> vec4<f32> {
+    if TANK.domed == 1u {
+        return slosh_domed_modes(z, v);
+    }
+    let hr = v / (TANK.disc_area * TANK.radius);
+    return vec4<f32>(slosh_cylinder_mode(SLOSH_XI_0, hr), slosh_cylinder_mode(SLOSH_XI_1, hr));
+}
+
+// tank_slosh_modes of a domed TANK, from SLOSH_TABLE.
+fn slosh_domed_modes(z: f32, v: f32) -> vec4<f32> {
     let r = TANK.radius;
     let k = TANK.k;
     let l = TANK.length / r;
@@ -59,7 +76,7 @@ fn tank_slosh_modes(z: f32, v: f32) -> vec4<f32> {
         return (1.0 - kt) * slosh_column(4u * ki * n, n, x) + kt * slosh_column(4u * (ki + 1u) * n, n, x);
     }
     if zr < k + l {
-        let x = (zr - k) / SLOSH_BARREL_H_MAX * f32(SLOSH_N_BARREL - 1u);
+        let x = sqrt((zr - k) / SLOSH_BARREL_H_MAX) * f32(SLOSH_N_BARREL - 1u);
         let n = SLOSH_N_BARREL;
         let q = (1.0 - kt) * slosh_column(SLOSH_BARREL_AT + 4u * ki * n, n, x)
             + kt * slosh_column(SLOSH_BARREL_AT + 4u * (ki + 1u) * n, n, x);
