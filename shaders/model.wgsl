@@ -8,7 +8,7 @@
 //
 // Prepended by the host: the generated constants, the state type St and struct declarations (src/gpu/params.rs,
 // src/gpu/props.rs) and shaders/fluids.wgsl, shaders/geometry.wgsl, shaders/slosh_modes.wgsl (FL, HE,
-// TANK, fl_*, tank_*, SLOSH_TABLE).
+// TANK, fl_*, tank_*, tank_slosh_modes). `tables` starts with the slosh tables (gpu::params::Tables).
 //
 // Precision: the state is carried as f32 hi + lo words and every Runge–Kutta increment is added
 // with Kahan compensation, so slow integrals (wall energy over hours, vented mass) lose nothing

@@ -1,7 +1,9 @@
 // The first two slosh modes of TANK: the f32 mirror of model::slosh::tank_modes, mode_shape
 // and domed_modes (src/model/slosh.rs); change both. Cylinders by the SP-106 closed form,
-// domed tanks (capsule, sphere) from the generated SLOSH_TABLE. Prepended by the host: the
-// SLOSH_* constants and SLOSH_TABLE (src/gpu/props.rs::slosh_table_wgsl), GpuTank and TANK.
+// domed tanks (capsule, sphere) from the slosh tables at the start of the kernel's `tables`
+// storage buffer (gpu::props::slosh_table_f32, placed by gpu::params::Tables; the kernel
+// declares the binding). Prepended by the host: the SLOSH_* constants
+// (src/gpu/props.rs::slosh_table_wgsl), GpuTank and TANK.
 
 struct SloshNodes {
     i: vec4<u32>,
@@ -37,8 +39,7 @@ fn slosh_column(base: u32, n: u32, x: f32) -> vec4<f32> {
     var out = vec4<f32>(0.0);
     for (var j = 0u; j < 4u; j++) {
         let o = base + 4u * c.i[j];
-        out += c.w[j] * vec4<f32>(SLOSH_TABLE[o], SLOSH_TABLE[o + 1u], SLOSH_TABLE[o + 2u],
-            SLOSH_TABLE[o + 3u]);
+        out += c.w[j] * vec4<f32>(tables[o], tables[o + 1u], tables[o + 2u], tables[o + 3u]);
     }
     return out;
 }
@@ -60,7 +61,7 @@ fn tank_slosh_modes(z: f32, v: f32) -> vec4<f32> {
     return vec4<f32>(slosh_cylinder_mode(SLOSH_XI_0, hr), slosh_cylinder_mode(SLOSH_XI_1, hr));
 }
 
-// tank_slosh_modes of a domed TANK, from SLOSH_TABLE.
+// tank_slosh_modes of a domed TANK, from the tables.
 fn slosh_domed_modes(z: f32, v: f32) -> vec4<f32> {
     let r = TANK.radius;
     let k = TANK.k;

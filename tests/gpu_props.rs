@@ -10,7 +10,7 @@
 use cryoslosh::fluids::{Fluid, FluidProps, HELIUM};
 use cryoslosh::geometry::{Shape, Tank, TankLanes};
 use cryoslosh::model::slosh::{tank_modes, ModeShape};
-use cryoslosh::gpu::props::{props_wgsl, GpuFluid, GpuGas, GpuTank};
+use cryoslosh::gpu::props::{props_wgsl, slosh_table_f32, GpuFluid, GpuGas, GpuTank};
 use cryoslosh::gpu_struct;
 use wgpu::util::DeviceExt;
 
@@ -300,7 +300,8 @@ fn kernel() -> String {
 @group(0) @binding(1) var<storage, read> fluids: array<GpuFluid>;
 @group(0) @binding(2) var<storage, read> tanks: array<GpuTank>;
 @group(0) @binding(3) var<storage, read> gas: GpuGas;
-@group(0) @binding(4) var<storage, read_write> out: array<f32>;
+@group(0) @binding(4) var<storage, read> tables: array<f32>;
+@group(0) @binding(5) var<storage, read_write> out: array<f32>;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
@@ -357,11 +358,13 @@ fn run(
         })
     };
     let gas = GpuGas::new(&HELIUM);
+    let slosh_table = slosh_table_f32();
     let inputs = [
         storage("cases", bytemuck::cast_slice(cases)),
         storage("fluids", bytemuck::cast_slice(fluids)),
         storage("tanks", bytemuck::cast_slice(tanks)),
         storage("gas", bytemuck::bytes_of(&gas)),
+        storage("tables", bytemuck::cast_slice(&slosh_table)),
     ];
     let size = (cases.len() * 4) as u64;
     let out = device.create_buffer(&wgpu::BufferDescriptor {

@@ -345,13 +345,23 @@ impl GpuParams {
 }
 
 /// Excitation tables of one upload as rows (t, a_lat, a_ax): each distinct table is stored once
-/// however many instances' phases use it (tables are read from a file, rarely dispersed).
-#[derive(Default)]
+/// however many instances' phases use it (tables are read from a file, rarely dispersed). The
+/// buffer starts with the slosh tables ([`crate::gpu::props::slosh_table_f32`], whole rows),
+/// which `shaders/slosh_modes.wgsl` reads from index 0.
 pub struct Tables {
-    /// The rows, flattened.
+    /// The rows, flattened: the slosh tables, then the excitation rows.
     pub rows: Vec<f32>,
     /// Tables stored so far and their first row.
     stored: Vec<(Excitation, u32)>,
+}
+
+impl Default for Tables {
+    fn default() -> Tables {
+        Tables {
+            rows: crate::gpu::props::slosh_table_f32(),
+            stored: Vec::new(),
+        }
+    }
 }
 
 impl Tables {

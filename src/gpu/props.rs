@@ -307,12 +307,29 @@ impl GpuTank {
     }
 }
 
+/// The domed-tank slosh tables of [`crate::model::slosh_table`] in f32 as the GPU reads them:
+/// bottom dome, barrel, top dome, zero-padded to whole excitation rows of three floats. They
+/// are the first floats of the kernel's `tables` storage buffer ([`super::params::Tables`]
+/// puts them there; `shaders/slosh_modes.wgsl` reads them). A buffer rather than a WGSL
+/// `const` array: every storage binding is taken, and a runtime-indexed 6,604-element constant
+/// array is lowered by llvmpipe into compare-and-select chains (a test kernel took over 14
+/// minutes to compile).
+pub fn slosh_table_f32() -> Vec<f32> {
+    use crate::model::slosh_table as t;
+    let mut v: Vec<f32> = [&t::BOTTOM[..], &t::BARREL[..], &t::TOP[..]]
+        .concat()
+        .iter()
+        .map(|&x| x as f32)
+        .collect();
+    v.resize(v.len().div_ceil(3) * 3, 0.0);
+    v
+}
+
 /// WGSL constants of the domed-tank slosh tables, generated from [`crate::model::slosh_table`]
 /// (layouts and constants generated, not copied): the grid sizes and steps as `SLOSH_*`
-/// constants and the three tables (bottom dome, barrel, top dome) in one
-/// `const SLOSH_TABLE: array<f32, N>` with `SLOSH_BARREL_AT` and `SLOSH_TOP_AT` the offsets of
-/// the second and third. `shaders/slosh_modes.wgsl` interpolates them as
-/// `model::slosh::domed_modes` does.
+/// constants, and `SLOSH_BARREL_AT` and `SLOSH_TOP_AT` the offsets of the barrel and top-dome
+/// tables in [`slosh_table_f32`] (the bottom dome's is 0). `shaders/slosh_modes.wgsl`
+/// interpolates them as `model::slosh::domed_modes` does.
 pub fn slosh_table_wgsl() -> String {
     use crate::model::slosh::{MIN_DEPTH_RATIO, MIN_SURFACE_RADIUS_RATIO, XI};
     use crate::model::slosh_table as t;
@@ -341,23 +358,14 @@ pub fn slosh_table_wgsl() -> String {
     ] {
         s += &format!("const {name}: f32 = {v:e};\n");
     }
-    let all: Vec<String> = [&t::BOTTOM[..], &t::BARREL[..], &t::TOP[..]]
-        .concat()
-        .iter()
-        .map(|&v| format!("{:e}", v as f32))
-        .collect();
-    s += &format!(
-        "const SLOSH_TABLE: array<f32, {n}> = array<f32, {n}>({});\n",
-        all.join(", "),
-        n = all.len()
-    );
     s
 }
 
 /// WGSL source of the property library: the `GpuFluid`, `GpuGas` and `GpuTank` declarations,
 /// the slosh table constants ([`slosh_table_wgsl`]), then `shaders/fluids.wgsl`,
-/// `shaders/geometry.wgsl` and `shaders/slosh_modes.wgsl`. Kernels append their entry points
-/// and assign `FL`, `HE` and `TANK` once per invocation.
+/// `shaders/geometry.wgsl` and `shaders/slosh_modes.wgsl`. Kernels append their entry points,
+/// assign `FL`, `HE` and `TANK` once per invocation, and declare
+/// `var<storage, read> tables: array<f32>` starting with [`slosh_table_f32`].
 pub fn props_wgsl() -> String {
     let mut s = GpuFluid::wgsl();
     s += &GpuGas::wgsl();
