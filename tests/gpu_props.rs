@@ -9,9 +9,9 @@
 
 use cryoslosh::fluids::{Fluid, FluidProps, HELIUM};
 use cryoslosh::geometry::{Shape, Tank, TankLanes};
-use cryoslosh::model::slosh::{tank_modes, ModeShape};
 use cryoslosh::gpu::props::{props_wgsl, slosh_table_f32, GpuFluid, GpuGas, GpuTank};
 use cryoslosh::gpu_struct;
+use cryoslosh::model::slosh::{tank_modes, ModeShape};
 use wgpu::util::DeviceExt;
 
 gpu_struct! {

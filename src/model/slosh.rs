@@ -101,9 +101,7 @@ pub fn tank_modes<T: Real>(
 /// Catmull-Rom nodes and weights at grid coordinate `x` (clamped to [0, n − 1]) on `n` nodes; the
 /// end intervals use a ghost node extended linearly from the last two.
 fn catmull_rom(n: usize, x: f64) -> ([usize; 4], [f64; 4]) {
-    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, (n - 1) as f64) };
-    let i = (x.floor() as usize).min(n - 2);
-    let t = x - i as f64;
+    let (i, t) = cell(n, x);
     let (t2, t3) = (t * t, t * t * t);
     let mut w = [
         0.5 * (-t3 + 2.0 * t2 - t),
@@ -124,10 +122,20 @@ fn catmull_rom(n: usize, x: f64) -> ([usize; 4], [f64; 4]) {
 
 /// Linear-interpolation nodes and weights at grid coordinate `x` (clamped) on `n` nodes.
 fn linear(n: usize, x: f64) -> ([usize; 2], [f64; 2]) {
-    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, (n - 1) as f64) };
-    let i = (x.floor() as usize).min(n - 2);
-    let t = x - i as f64;
+    let (i, t) = cell(n, x);
     ([i, i + 1], [1.0 - t, t])
+}
+
+/// Interval `i` of grid coordinate `x` on `n` nodes and the position `t` ∈ [0, 1] in it; `x` is
+/// clamped to [0, n − 1], NaN to 0.
+fn cell(n: usize, x: f64) -> (usize, f64) {
+    let x = if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(0.0, (n - 1) as f64)
+    };
+    let i = (x.floor() as usize).min(n - 2);
+    (i, x - i as f64)
 }
 
 /// One table column (nodes of 4 values from `base`) at grid coordinate `x`, Catmull-Rom.
