@@ -19,8 +19,11 @@ I_n = int_V x dphi_n/dz dV (x = r cos theta),
     slosh mass      m_n = rho lambda_n P_n^2 / N_n            (force balance),
     pendulum length L_n = 1 / lambda_n                        (omega_n^2 = g / L_n),
     hinge height    z_h = (P_n - 2 I_n) / (lambda_n P_n)      (moment balance, above the surface).
-The moment follows from int_V r x grad(p) dV over the closed liquid boundary with
-int_V d(xz)... = 0 on the wall (Green), so that the wall moment of mode n is rho a_n'' (2 I_n - P_n).
+The moment: the wall moment of the dynamic pressure p = -rho a_n'' phi_n is the closed-boundary
+integral of p (r x n) = int_V r x grad(p) dV minus the free-surface part; Green's identity with
+the harmonic xz (its flux vanishes on the wall, and xz = 0 on the surface z = 0) turns
+int_V z dphi/dx dV into -I_n, so the wall moment is rho a_n'' (2 I_n - P_n) and the force
+-rho a_n'' lambda_n P_n; their ratio is the height at which the mode's force acts (the hinge).
 For the flat-bottom cylinder these reduce to the SP-106 closed forms: m_n / m_l =
 2 tanh(xi h) / (xi (xi^2 - 1) h), z_h = L_n (2 sech(xi h) - 1), i.e. the mass
 (2/xi) tanh(xi h / 2) below the surface (Dodge 2000 eq. 3.3); `python3 tools/slosh_fem.py` checks.
