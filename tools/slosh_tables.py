@@ -30,7 +30,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from slosh_fem import XI, Wall, solve  # noqa: E402
 
 N_TABLE = 16
-LOG2K = np.arange(-2.0, 1.0 + 1e-9, 0.25)  # k = 0.25 .. 2
+LOG2K = np.arange(-3.5, 1.75 + 1e-9, 0.25)  # k = 0.088 .. 3.36 (inputs: 0.1 .. 3)
 SIGMA = np.linspace(0.0, 1.0, 21)
 HBAR = 3.0 * np.linspace(0.0, 1.0, 25) ** 2  # dense above the bottom dome
 UTOP = np.linspace(0.0, 0.96, 17)
@@ -67,8 +67,8 @@ def quantities(args):
     return out
 
 
-def build(pool, n=N_TABLE):
-    ks = 2.0**LOG2K
+def build(pool, n=N_TABLE, ks=None):
+    ks = 2.0**LOG2K if ks is None else ks
     jobs = [("bottom", k, 0.0, s, n) for k in ks for s in SIGMA]
     bottom = np.array([q if q is not None else [0] * 4 for q in pool.map(quantities, jobs)])
     bottom = bottom.reshape(len(ks), len(SIGMA), 4)
@@ -248,7 +248,7 @@ pub static TOP: [f64; {top.size}] = [{fmt(top)}];
 def verify(pool, tabs):
     """Interpolation error against direct solves at the tables' resolution, off the nodes."""
     cases = []
-    for k in (0.3, 0.5, 0.6, 2**-0.5, 0.85, 1.0, 1.2, 1.6):
+    for k in (0.1, 0.15, 0.3, 0.5, 0.6, 2**-0.5, 0.85, 1.0, 1.2, 1.6, 2.5, 3.0):
         for L in (0.0, 0.1, 0.3, 0.7, 1.0, 2.0, 4.0):
             for f in (0.03, 0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.9, 0.97):
                 cases.append((k, L, f))
@@ -279,6 +279,24 @@ def main():
         if ("--check" in sys.argv or "--cached" in sys.argv) and os.path.exists(cache):
             d = np.load(cache)
             tabs = (d["bottom"], d["barrel"], d["top"])
+            if len(tabs[0]) < len(LOG2K):  # a cached run on the first grid (k 0.25 .. 2): add the new k nodes
+                ks = 2.0**LOG2K
+                have = {round(float(k), 9): i for i, k in enumerate(2.0 ** np.arange(-2.0, 1.0 + 1e-9, 0.25))}
+                new_ks = np.array([k for k in ks if round(float(k), 9) not in have])
+                extra = build(pool, ks=new_ks)
+                parts = []
+                for t_old, t_new in zip(tabs, extra):
+                    rows, j = [], 0
+                    for k in ks:
+                        key = round(float(k), 9)
+                        if key in have:
+                            rows.append(t_old[have[key]])
+                        else:
+                            rows.append(t_new[j])
+                            j += 1
+                    parts.append(np.array(rows))
+                tabs = tuple(parts)
+                np.savez(cache, bottom=tabs[0], barrel=tabs[1], top=tabs[2])
             if "--barrel" in sys.argv:
                 ks = 2.0**LOG2K
                 jobs = [("barrel", k, L_DEEP + 1.0, h, N_TABLE) for k in ks for h in HBAR]

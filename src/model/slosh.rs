@@ -156,15 +156,14 @@ fn column(data: &[f64], base: usize, n: usize, x: f64) -> [f64; 4] {
 /// flow, `tools/slosh_fem.py`): `omega2_ratio` = ω² R/a, `mass_ratio` = m_n/m_l,
 /// `length_ratio` = a/(ω² R).
 ///
-/// Interpolation: linear in log₂ k between the nodes k = 0.25 · 2^(j/4) (0.25 … 2), Catmull-Rom
+/// Interpolation: linear in log₂ k between the nodes k = 2^(j/4) (0.088 … 3.36), Catmull-Rom
 /// along the fill coordinate of the region holding the surface (bottom dome √(z/kR), barrel
 /// √(h/3R) with h the depth above the bottom dome, top-dome height u), linear in
 /// β = exp(−2 ξ_1 L/R) in the top dome.
-/// Interpolation error against the solver inside the ranges (docs/PHYSICS.md): ω_n² ≤ 0.12 %,
-/// m_1 ≤ 0.11 %, m_2 ≤ 0.63 %.
-/// Outside the ranges: k < 0.25 or k > 2 take the end node's table at the tank's own
-/// normalised fill (poor near empty: +140 % in ω_1² at 5 % fill for k = 0.1, docs/PHYSICS.md);
-/// a barrel surface more than 3 R above the bottom dome takes the deep values
+/// Interpolation error against the solver (docs/PHYSICS.md): for 0.25 ≤ k ≤ 2 ω_n² ≤ 0.12 %,
+/// m_1 ≤ 0.11 %, m_2 ≤ 0.63 %; down to k = 0.1 and up to k = 3 (the input range) ω_1² ≤ 1 %,
+/// m_2 ≤ 3.2 %. Outside the ranges: k beyond the end nodes takes the end node's table at the
+/// tank's own normalised fill; a barrel surface more than 3 R above the bottom dome takes the deep values
 /// (ω² and m_n then change by < 1e-4); a top-dome surface above u = 0.96 keeps its ω² r_s/g and
 /// m_n/(ρ r_s³), with r_s floored at [`MIN_SURFACE_RADIUS_RATIO`] R.
 pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [ModeShape; 2] {
