@@ -54,17 +54,21 @@ fn fill_level(x: ptr<function, Derived>, v_liquid: f32) {
     (*x).wet_slope = wetted_fraction_slope(z);
 }
 
+// Modal masses, lengths and frequencies of the tank's own shape: the closed form for a
+// cylinder, the generated tables for a domed tank (shaders/slosh_modes.wgsl). The damping
+// correlations (cylinder) take the equivalent cylinder: free-surface radius, depth V / (pi r^2).
 fn slosh_params(v_liquid: f32, m_liquid: f32, z: f32, a_ax: f32, nu: f32) -> Slosh {
-    let r = max(tank_surface_radius(z), 0.05 * tank_radius());
-    let h = v_liquid / (PI * r * r);
-    let hr = h / r;
+    let radius = tank_radius();
+    let r = max(tank_surface_radius(z), SLOSH_RS_MIN * radius);
+    let hr = v_liquid / (PI * r * r) / r;
     let zeta = wall_damping(nu, r, a_ax, hr) + baffle_damping(r, z) + P.extra_damping;
-    let m0 = mode_shape(XI_0, hr);
-    let m1 = mode_shape(XI_1, hr);
+    let q = tank_slosh_modes(z, v_liquid);
+    let w2 = q.xz;
+    let mr = q.yw;
     var out: Slosh;
-    out.mass = vec2<f32>(m0.x, m1.x) * m_liquid;
-    out.length = vec2<f32>(m0.y, m1.y) * r;
-    out.omega = sqrt(vec2<f32>(m0.z, m1.z) * a_ax / r);
+    out.mass = mr * m_liquid;
+    out.length = radius / w2;
+    out.omega = sqrt(w2 * a_ax / radius);
     out.zeta = zeta;
     return out;
 }

@@ -1,12 +1,14 @@
 // The physics of one tank instance in f32, one instance per invocation: the WGSL mirror of
 // src/model/. This file: the bindings and per-invocation globals, the trajectory (flight.rs) and
-// the slosh analog (slosh.rs). Then derive.wgsl (derive.rs, homogeneous.rs), closures.wgsl
+// the slosh analog's damping (slosh.rs; its modes are shaders/slosh_modes.wgsl in the property
+// library). Then derive.wgsl (derive.rs, homogeneous.rs), closures.wgsl
 // (thermal.rs, boundary.rs), rhs.wgsl (nodes.rs), observe.wgsl (model/mod.rs and the
 // observation in src/simulate/), and the stepping loop (rk4.wgsl or adaptive.wgsl). Change one,
 // change both; tests/gpu_parity.rs checks.
 //
 // Prepended by the host: the generated constants, the state type St and struct declarations (src/gpu/params.rs,
-// src/gpu/props.rs) and shaders/fluids.wgsl, shaders/geometry.wgsl (FL, HE, TANK, fl_*, tank_*).
+// src/gpu/props.rs) and shaders/fluids.wgsl, shaders/geometry.wgsl, shaders/slosh_modes.wgsl (FL, HE,
+// TANK, fl_*, tank_*, tank_slosh_modes). `tables` starts with the slosh tables (gpu::params::Tables).
 //
 // Precision: the state is carried as f32 hi + lo words and every Runge–Kutta increment is added
 // with Kahan compensation, so slow integrals (wall energy over hours, vented mass) lose nothing
@@ -147,13 +149,6 @@ struct Slosh {
     length: vec2<f32>,
     omega: vec2<f32>,
     zeta: f32,
-}
-
-/// (mass ratio, length ratio, ω² R / a) of mode n at depth ratio h/R.
-fn mode_shape(xi: f32, h_over_r: f32) -> vec3<f32> {
-    let hr = max(h_over_r, MIN_DEPTH_RATIO);
-    let th = tanh(xi * hr);
-    return vec3<f32>(2.0 * th / (xi * (xi * xi - 1.0) * hr), 1.0 / (xi * th), xi * th);
 }
 
 fn wall_damping(nu: f32, r: f32, a_ax: f32, h_over_r: f32) -> f32 {

@@ -381,6 +381,11 @@ impl<T: Real> TankLanes<T> {
         }
     }
 
+    /// Shape, radius `R` (m), barrel length `L` (m) and dome ratio `k` per lane.
+    pub fn dimensions(&self) -> (Shape, T, T, T) {
+        (self.shape, self.radius, self.length, self.k)
+    }
+
     /// Total internal wall area (m²).
     pub fn wall_area_m2(&self) -> T {
         self.wall_area

@@ -2,13 +2,16 @@
 //! compute dispatch evaluates every `fl_*`, `he_*` and `tank_*` function on a grid of f32
 //! inputs for every propellant and for one tank of each shape (plus a prolate capsule),
 //! and each result must agree with the Rust value at the same (f32) input to the tolerance
-//! listed per function. Skipped (with a message) when there is no GPU adapter, unless
-//! `CRYOSLOSH_REQUIRE_GPU=1`.
+//! listed per function, including the slosh modes (`tank_slosh_modes`: the generated tables of
+//! `model::slosh_table` as WGSL constants against `model::slosh::tank_modes`, so that a table or
+//! interpolation mismatch between the backends shows here). Skipped (with a message) when there
+//! is no GPU adapter, unless `CRYOSLOSH_REQUIRE_GPU=1`.
 
 use cryoslosh::fluids::{Fluid, FluidProps, HELIUM};
-use cryoslosh::geometry::{Shape, Tank};
-use cryoslosh::gpu::props::{props_wgsl, GpuFluid, GpuGas, GpuTank};
+use cryoslosh::geometry::{Shape, Tank, TankLanes};
+use cryoslosh::gpu::props::{props_wgsl, slosh_table_f32, GpuFluid, GpuGas, GpuTank};
 use cryoslosh::gpu_struct;
+use cryoslosh::model::slosh::{tank_modes, ModeShape};
 use wgpu::util::DeviceExt;
 
 gpu_struct! {
@@ -143,7 +146,7 @@ const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 24] = [
 ];
 
 /// WGSL call (argument `a`), input grid, Rust reference and max relative error allowed.
-const TANK_FUNCS: [(&str, Grid, TankFn, f64); 12] = [
+const TANK_FUNCS: [(&str, Grid, TankFn, f64); 16] = [
     ("tank_radius()", Grid::None, |t, _| t.radius_m(), 1e-7),
     ("tank_height()", Grid::None, |t, _| t.height_m(), 1e-7),
     ("tank_volume()", Grid::None, |t, _| t.volume_m3(), 1e-7),
@@ -201,16 +204,51 @@ const TANK_FUNCS: [(&str, Grid, TankFn, f64); 12] = [
         |t, z| t.cross_section_area_m2(z),
         1e-6,
     ),
+    (
+        "tank_slosh_modes(a, tank_liquid_volume(a)).x",
+        Grid::Height,
+        |t, z| modes(t, z)[0].omega2_ratio,
+        SLOSH_TOL,
+    ),
+    (
+        "tank_slosh_modes(a, tank_liquid_volume(a)).y",
+        Grid::Height,
+        |t, z| modes(t, z)[0].mass_ratio,
+        SLOSH_TOL,
+    ),
+    (
+        "tank_slosh_modes(a, tank_liquid_volume(a)).z",
+        Grid::Height,
+        |t, z| modes(t, z)[1].omega2_ratio,
+        SLOSH_TOL,
+    ),
+    (
+        "tank_slosh_modes(a, tank_liquid_volume(a)).w",
+        Grid::Height,
+        |t, z| modes(t, z)[1].mass_ratio,
+        SLOSH_TOL,
+    ),
 ];
 
+/// Tolerance of the slosh modes: f32 interpolation of the f32-rounded table, and the level of a
+/// region boundary (bottom dome, barrel, top dome) falling on either side in f32.
+const SLOSH_TOL: f64 = 1e-4;
+
+/// The Rust slosh modes of `t` with the surface at `z` (m) over the liquid below it.
+fn modes(t: &Tank, z: f64) -> [ModeShape; 2] {
+    tank_modes(&TankLanes::<f64>::gather(|_| t), z, t.liquid_volume_m3(z))
+}
+
 /// The tanks under test with their dome heights `a = k R` (m): one of each shape and a
-/// prolate capsule (the `asin` branch of the zone area).
+/// prolate capsule (the `asin` branch of the zone area), and a short-barrel 2:1 capsule (the slosh
+/// tables between their barrel-length nodes).
 fn tanks() -> Vec<(Tank, f64)> {
     vec![
         (Tank::new(Shape::Capsule, 2.0, 6.0, 0.707), 0.707 * 2.0),
         (Tank::new(Shape::Sphere, 1.5, 0.0, 1.0), 1.5),
         (Tank::new(Shape::Cylinder, 1.0, 3.0, 1.0), 0.0),
         (Tank::new(Shape::Capsule, 0.8, 2.0, 1.8), 1.8 * 0.8),
+        (Tank::new(Shape::Capsule, 1.2, 0.5, 0.5), 0.5 * 1.2),
     ]
 }
 
@@ -304,7 +342,8 @@ fn kernel() -> String {
 @group(0) @binding(1) var<storage, read> fluids: array<GpuFluid>;
 @group(0) @binding(2) var<storage, read> tanks: array<GpuTank>;
 @group(0) @binding(3) var<storage, read> gas: GpuGas;
-@group(0) @binding(4) var<storage, read_write> out: array<f32>;
+@group(0) @binding(4) var<storage, read> tables: array<f32>;
+@group(0) @binding(5) var<storage, read_write> out: array<f32>;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
@@ -361,11 +400,13 @@ fn run(
         })
     };
     let gas = GpuGas::new(&HELIUM);
+    let slosh_table = slosh_table_f32();
     let inputs = [
         storage("cases", bytemuck::cast_slice(cases)),
         storage("fluids", bytemuck::cast_slice(fluids)),
         storage("tanks", bytemuck::cast_slice(tanks)),
         storage("gas", bytemuck::bytes_of(&gas)),
+        storage("tables", bytemuck::cast_slice(&slosh_table)),
     ];
     let size = (cases.len() * 4) as u64;
     let out = device.create_buffer(&wgpu::BufferDescriptor {

@@ -9,7 +9,7 @@ use crate::model::flight::{
     Excitation, Phase, PhaseKind, EARTH_RADIUS_M, G0, P_SEA_LEVEL_PA, RHO_SEA_LEVEL, SCALE_HEIGHT_M,
 };
 use crate::model::params::{Fidelity, Params};
-use crate::model::slosh::{MIN_AXIAL_ACCEL, XI};
+use crate::model::slosh::MIN_AXIAL_ACCEL;
 use crate::model::state::{self, State, NS};
 
 /// Optional closures present in [`GpuParams::flags`].
@@ -354,13 +354,23 @@ impl GpuParams {
 }
 
 /// Excitation tables of one upload as rows (t, a_lat, a_ax): each distinct table is stored once
-/// however many instances' phases use it (tables are read from a file, rarely dispersed).
-#[derive(Default)]
+/// however many instances' phases use it (tables are read from a file, rarely dispersed). The
+/// buffer starts with the slosh tables ([`crate::gpu::props::slosh_table_f32`], whole rows),
+/// which `shaders/slosh_modes.wgsl` reads from index 0.
 pub struct Tables {
-    /// The rows, flattened.
+    /// The rows, flattened: the slosh tables, then the excitation rows.
     pub rows: Vec<f32>,
     /// Tables stored so far and their first row.
     stored: Vec<(Excitation, u32)>,
+}
+
+impl Default for Tables {
+    fn default() -> Tables {
+        Tables {
+            rows: crate::gpu::props::slosh_table_f32(),
+            stored: Vec::new(),
+        }
+    }
 }
 
 impl Tables {
@@ -541,8 +551,6 @@ pub fn constants_wgsl() -> String {
         ("SCALE_HEIGHT_M", SCALE_HEIGHT_M),
         ("EARTH_RADIUS_M", EARTH_RADIUS_M),
         ("MIN_AXIAL_ACCEL", MIN_AXIAL_ACCEL),
-        ("XI_0", XI[0]),
-        ("XI_1", XI[1]),
         ("R_UNIVERSAL", R_UNIVERSAL),
         ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
         ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),

@@ -322,14 +322,72 @@ impl GpuTank {
     }
 }
 
+/// The domed-tank slosh tables of [`crate::model::slosh_table`] in f32 as the GPU reads them:
+/// bottom dome, barrel, top dome, zero-padded to whole excitation rows of three floats. They
+/// are the first floats of the kernel's `tables` storage buffer ([`super::params::Tables`]
+/// puts them there; `shaders/slosh_modes.wgsl` reads them). A buffer rather than a WGSL
+/// `const` array: every storage binding is taken, and a runtime-indexed 6,604-element constant
+/// array is lowered by llvmpipe into compare-and-select chains (a test kernel took over 14
+/// minutes to compile).
+pub fn slosh_table_f32() -> Vec<f32> {
+    use crate::model::slosh_table as t;
+    let mut v: Vec<f32> = [&t::BOTTOM[..], &t::BARREL[..], &t::TOP[..]]
+        .concat()
+        .iter()
+        .map(|&x| x as f32)
+        .collect();
+    v.resize(v.len().div_ceil(3) * 3, 0.0);
+    v
+}
+
+/// WGSL constants of the domed-tank slosh tables, generated from [`crate::model::slosh_table`]
+/// (layouts and constants generated, not copied): the grid sizes and steps as `SLOSH_*`
+/// constants, and `SLOSH_BARREL_AT` and `SLOSH_TOP_AT` the offsets of the barrel and top-dome
+/// tables in [`slosh_table_f32`] (the bottom dome's is 0). `shaders/slosh_modes.wgsl`
+/// interpolates them as `model::slosh::domed_modes` does.
+pub fn slosh_table_wgsl() -> String {
+    use crate::model::slosh::{MIN_DEPTH_RATIO, MIN_SURFACE_RADIUS_RATIO, XI};
+    use crate::model::slosh_table as t;
+    let mut s = String::new();
+    for (name, v) in [
+        ("SLOSH_NK", t::NK),
+        ("SLOSH_N_SIGMA", t::N_SIGMA),
+        ("SLOSH_N_BARREL", t::N_BARREL),
+        ("SLOSH_N_TOP", t::N_TOP),
+        ("SLOSH_N_BETA", t::N_BETA),
+        ("SLOSH_BARREL_AT", t::BOTTOM.len()),
+        ("SLOSH_TOP_AT", t::BOTTOM.len() + t::BARREL.len()),
+    ] {
+        s += &format!("const {name}: u32 = {v}u;\n");
+    }
+    for (name, v) in [
+        ("SLOSH_LOG2K_0", t::LOG2K_0),
+        ("SLOSH_LOG2K_STEP", t::LOG2K_STEP),
+        ("SLOSH_BARREL_H_MAX", t::BARREL_H_MAX),
+        ("SLOSH_TOP_U_MAX", t::TOP_U_MAX),
+        ("SLOSH_BETA_RATE", 2.0 * XI[0]),
+        ("SLOSH_RS_MIN", MIN_SURFACE_RADIUS_RATIO),
+        ("SLOSH_XI_0", XI[0]),
+        ("SLOSH_XI_1", XI[1]),
+        ("SLOSH_MIN_DEPTH_RATIO", MIN_DEPTH_RATIO),
+    ] {
+        s += &format!("const {name}: f32 = {v:e};\n");
+    }
+    s
+}
+
 /// WGSL source of the property library: the `GpuFluid`, `GpuGas` and `GpuTank` declarations,
-/// then `shaders/fluids.wgsl` and `shaders/geometry.wgsl`. Kernels append their entry points
-/// and assign `FL`, `HE` and `TANK` once per invocation.
+/// the slosh table constants ([`slosh_table_wgsl`]), then `shaders/fluids.wgsl`,
+/// `shaders/geometry.wgsl` and `shaders/slosh_modes.wgsl`. Kernels append their entry points,
+/// assign `FL`, `HE` and `TANK` once per invocation, and declare
+/// `var<storage, read> tables: array<f32>` starting with [`slosh_table_f32`].
 pub fn props_wgsl() -> String {
     let mut s = GpuFluid::wgsl();
     s += &GpuGas::wgsl();
     s += &GpuTank::wgsl();
+    s += &slosh_table_wgsl();
     s += include_str!("../../shaders/fluids.wgsl");
     s += include_str!("../../shaders/geometry.wgsl");
+    s += include_str!("../../shaders/slosh_modes.wgsl");
     s
 }

@@ -214,7 +214,11 @@ fn flight_state<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, m_tank: T) ->
     )
 }
 
-/// Slosh parameters from the equivalent cylinder at the current level (MODEL.md §5).
+/// Slosh parameters at the current level (MODEL.md §5, docs/PHYSICS.md "Slosh"): the modal
+/// masses, pendulum lengths and frequencies of the tank's own shape ([`slosh::tank_modes`]:
+/// closed form for cylinders, potential-flow tables for spheres and capsules). The damping
+/// correlations are for flat-bottom cylinders; they are evaluated on the equivalent cylinder,
+/// free-surface radius r_s and depth V_l / (π r_s²) ([`slosh::equivalent_cylinder`]).
 fn slosh_params<T: Real>(
     g: Group<'_>,
     tank: &TankLanes<T>,
@@ -226,15 +230,14 @@ fn slosh_params<T: Real>(
 ) -> SloshParams<T> {
     let radius: T = g.get(|p| p.tank.radius_m());
     let (r, h) = slosh::equivalent_cylinder(tank.surface_radius_m(z), v_liquid, radius);
-    let hr = h / r;
     let extra: T = g.get(|p| p.extra_damping);
-    let zeta = slosh::wall_damping(nu, r, a_ax, hr) + slosh::baffle_damping(g, r, z) + extra;
+    let zeta = slosh::wall_damping(nu, r, a_ax, h / r) + slosh::baffle_damping(g, r, z) + extra;
+    let modes = slosh::tank_modes(tank, z, v_liquid);
     let mut out = SloshParams::default();
-    for n in 0..2 {
-        let shape = slosh::mode_shape(n, hr);
+    for (n, shape) in modes.iter().enumerate() {
         out.mass_kg[n] = shape.mass_ratio * m_liquid;
-        out.length_m[n] = shape.length_ratio * r;
-        out.omega[n] = (shape.omega2_ratio * a_ax / r).sqrt();
+        out.length_m[n] = shape.length_ratio * radius;
+        out.omega[n] = (shape.omega2_ratio * a_ax / radius).sqrt();
         out.zeta[n] = zeta;
     }
     out

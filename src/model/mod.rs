@@ -12,6 +12,7 @@ pub mod homogeneous;
 pub mod nodes;
 pub mod params;
 pub mod slosh;
+pub mod slosh_table;
 pub mod state;
 pub mod thermal;
 

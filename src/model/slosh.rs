@@ -1,11 +1,16 @@
-//! Slosh mechanical-analog parameters and damping (MODEL.md §5).
+//! Slosh mechanical-analog parameters and damping (MODEL.md §5, docs/PHYSICS.md "Slosh").
 //!
-//! Modal masses, lengths and frequencies of a flat-bottom upright cylinder (Abramson, NASA SP-106,
-//! ch. 6; Dodge, "The New Dynamic Behavior of Liquids in Moving Containers", 2000). Spheres and
-//! domed tanks use the equivalent cylinder documented in [`equivalent_cylinder`].
+//! Flat-bottom upright cylinders: the closed-form modal masses, lengths and frequencies of
+//! Abramson, NASA SP-106, ch. 6 (Dodge, "The New Dynamic Behavior of Liquids in Moving
+//! Containers", 2000), [`mode_shape`]. Spheres and capsules: tables of a converged linear
+//! potential-flow solution of the real tank shape (`tools/slosh_fem.py`, generated into
+//! [`super::slosh_table`] by `tools/slosh_tables.py`), interpolated by [`domed_modes`].
+//! The damping correlations are cylinder correlations evaluated on [`equivalent_cylinder`].
 
+use super::slosh_table as table;
 use super::Group;
-use crate::lanes::{c, Mask, Real};
+use crate::geometry::{Shape, TankLanes};
+use crate::lanes::{c, Mask, Real, WIDTH};
 use std::f64::consts::PI;
 
 /// Roots of J1'(ξ) = 0 for the first two antisymmetric modes.
@@ -18,14 +23,18 @@ pub const MIN_AXIAL_ACCEL: f64 = 1.0e-6;
 /// Shallowest equivalent depth ratio h/R, so that modal formulas stay finite near empty.
 pub const MIN_DEPTH_RATIO: f64 = 0.02;
 
+/// Smallest free-surface radius over the tank radius that the domed-tank tables are evaluated
+/// with: a domed tank filled to its top pole keeps finite frequencies (ω² R/g ≲ 60).
+pub const MIN_SURFACE_RADIUS_RATIO: f64 = 0.05;
+
 /// Dimensionless properties of slosh mode `n` (0-based) at depth ratio h/R.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ModeShape<T = f64> {
     /// Modal mass over liquid mass, m_n / m_l.
     pub mass_ratio: T,
-    /// Pendulum length over radius, L_n / R.
+    /// Pendulum length over radius, L_n / R (= a_ax / (ω_n² R): the pendulum analog).
     pub length_ratio: T,
-    /// ω_n² R / a_ax.
+    /// ω_n² R / a_ax, R the tank radius (cylinder: the free-surface radius, the same).
     pub omega2_ratio: T,
 }
 
@@ -42,17 +51,164 @@ pub fn mode_shape<T: Real>(n: usize, h_over_r: T) -> ModeShape<T> {
     }
 }
 
-/// Equivalent flat-bottom cylinder for any shape: the free-surface radius r and the depth that
-/// holds the liquid volume under that surface, h = V_l / (π r²). Exact for a cylinder; for a
-/// half-full sphere it gives ω² R/g = 1.550 against 1.56 from McIver (1989). Returns (R, h).
+/// Equivalent flat-bottom cylinder for any shape: the free-surface radius r (floored at
+/// [`MIN_SURFACE_RADIUS_RATIO`] R) and the depth that holds the liquid volume under that
+/// surface, h = V_l / (π r²). Returns (r, h), m. Exact for a cylinder. For spheres and capsules
+/// it is used only for the damping correlations ([`wall_damping`], [`baffle_damping`]), which
+/// are cylinder correlations; the modal properties come from [`domed_modes`] (the equivalent
+/// cylinder was 6–12 % low in frequency there, see docs/PHYSICS.md).
 pub fn equivalent_cylinder<T: Real>(
     surface_radius_m: T,
     liquid_volume_m3: T,
     tank_radius_m: T,
 ) -> (T, T) {
-    let r = surface_radius_m.max(tank_radius_m * 0.05);
+    let r = surface_radius_m.max(tank_radius_m * MIN_SURFACE_RADIUS_RATIO);
     let h = liquid_volume_m3 / (r * r * PI);
     (r, h)
+}
+
+/// The first two slosh modes of `tank` (every lane's own shape, radius, barrel length and dome
+/// ratio) with the free surface at `level_m` (m above the bottom) over `liquid_volume_m3` (m³)
+/// of liquid: cylinders by [`mode_shape`] at h = V_l / (π R²), spheres and capsules by
+/// [`domed_modes`]. `length_ratio` and `omega2_ratio` are over the tank radius R.
+pub fn tank_modes<T: Real>(
+    tank: &TankLanes<T>,
+    level_m: T,
+    liquid_volume_m3: T,
+) -> [ModeShape<T>; 2] {
+    let (shape, radius, length, k) = tank.dimensions();
+    if shape == Shape::Cylinder {
+        let (r, h) = equivalent_cylinder(radius, liquid_volume_m3, radius);
+        return [mode_shape(0, h / r), mode_shape(1, h / r)];
+    }
+    let mut lane = [[ModeShape::<f64>::default(); 2]; WIDTH];
+    for (i, m) in lane.iter_mut().enumerate().take(T::LANES) {
+        let r = radius.lane(i);
+        *m = domed_modes(
+            k.lane(i),
+            length.lane(i) / r,
+            level_m.lane(i) / r,
+            liquid_volume_m3.lane(i) / (r * r * r),
+        );
+    }
+    [0, 1].map(|n| ModeShape {
+        mass_ratio: T::from_fn(|i| lane[i][n].mass_ratio),
+        length_ratio: T::from_fn(|i| lane[i][n].length_ratio),
+        omega2_ratio: T::from_fn(|i| lane[i][n].omega2_ratio),
+    })
+}
+
+/// Catmull-Rom nodes and weights at grid coordinate `x` (clamped to [0, n − 1]) on `n` nodes; the
+/// end intervals use a ghost node extended linearly from the last two.
+fn catmull_rom(n: usize, x: f64) -> ([usize; 4], [f64; 4]) {
+    let (i, t) = cell(n, x);
+    let (t2, t3) = (t * t, t * t * t);
+    let mut w = [
+        0.5 * (-t3 + 2.0 * t2 - t),
+        0.5 * (3.0 * t3 - 5.0 * t2 + 2.0),
+        0.5 * (-3.0 * t3 + 4.0 * t2 + t),
+        0.5 * (t3 - t2),
+    ];
+    let mut idx = [i.saturating_sub(1), i, i + 1, (i + 2).min(n - 1)];
+    if i == 0 {
+        (w[1], w[2], w[0]) = (w[1] + 2.0 * w[0], w[2] - w[0], 0.0);
+        idx[0] = 0;
+    }
+    if i + 2 > n - 1 {
+        (w[2], w[1], w[3]) = (w[2] + 2.0 * w[3], w[1] - w[3], 0.0);
+    }
+    (idx, w)
+}
+
+/// Linear-interpolation nodes and weights at grid coordinate `x` (clamped) on `n` nodes.
+fn linear(n: usize, x: f64) -> ([usize; 2], [f64; 2]) {
+    let (i, t) = cell(n, x);
+    ([i, i + 1], [1.0 - t, t])
+}
+
+/// Interval `i` of grid coordinate `x` on `n` nodes and the position `t` ∈ [0, 1] in it; `x` is
+/// clamped to [0, n − 1], NaN to 0.
+fn cell(n: usize, x: f64) -> (usize, f64) {
+    let x = if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(0.0, (n - 1) as f64)
+    };
+    let i = (x.floor() as usize).min(n - 2);
+    (i, x - i as f64)
+}
+
+/// One table column (nodes of 4 values from `base`) at grid coordinate `x`, Catmull-Rom.
+fn column(data: &[f64], base: usize, n: usize, x: f64) -> [f64; 4] {
+    let (idx, w) = catmull_rom(n, x);
+    let mut out = [0.0; 4];
+    for (j, wj) in idx.iter().zip(w) {
+        for (q, o) in out.iter_mut().enumerate() {
+            *o += wj * data[base + 4 * j + q];
+        }
+    }
+    out
+}
+
+/// The first two slosh modes of a capsule of dome ratio `k` and barrel length `l_over_r` L/R
+/// (the sphere: k = 1, L = 0) with the free surface at `z_over_r` z/R above the bottom pole and
+/// `v_over_r3` V_l/R³ of liquid, from the generated [`super::slosh_table`] (linear potential
+/// flow, `tools/slosh_fem.py`): `omega2_ratio` = ω² R/a, `mass_ratio` = m_n/m_l,
+/// `length_ratio` = a/(ω² R).
+///
+/// Interpolation: linear in log₂ k between the nodes k = 2^(j/4) (0.088 … 3.36), Catmull-Rom
+/// along the fill coordinate of the region holding the surface (bottom dome √(z/kR), barrel
+/// √(h/3R) with h the depth above the bottom dome, top-dome height u), linear in
+/// β = exp(−2 ξ_1 L/R) in the top dome.
+/// Interpolation error against the solver (docs/PHYSICS.md): for 0.25 ≤ k ≤ 2 ω_n² ≤ 0.12 %,
+/// m_1 ≤ 0.11 %, m_2 ≤ 0.63 %; down to k = 0.1 and up to k = 3 (the input range) ω_1² ≤ 1 %,
+/// m_2 ≤ 3.2 %. Outside the ranges: k beyond the end nodes takes the end node's table at the
+/// tank's own normalised fill; a barrel surface more than 3 R above the bottom dome takes the deep values
+/// (ω² and m_n then change by < 1e-4); a top-dome surface above u = 0.96 keeps its ω² r_s/g and
+/// m_n/(ρ r_s³), with r_s floored at [`MIN_SURFACE_RADIUS_RATIO`] R.
+pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [ModeShape; 2] {
+    let (kn, kw) = linear(table::NK, (k.log2() - table::LOG2K_0) / table::LOG2K_STEP);
+    let (l, z, v) = (l_over_r.max(0.0), z_over_r.max(0.0), v_over_r3.max(1e-300));
+    // Per-node values (a_1, b_1, a_2, b_2) and how they become (ω² R/a, m_n/m_l).
+    let mut q = [0.0; 4];
+    let scale: [f64; 4] = if z <= k {
+        let x = (z / k).sqrt() * (table::N_SIGMA - 1) as f64;
+        for (&i, w) in kn.iter().zip(kw) {
+            let c = column(&table::BOTTOM, 4 * i * table::N_SIGMA, table::N_SIGMA, x);
+            q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
+        }
+        [1.0; 4]
+    } else if z < k + l {
+        let x = ((z - k) / table::BARREL_H_MAX).sqrt() * (table::N_BARREL - 1) as f64;
+        for (&i, w) in kn.iter().zip(kw) {
+            let c = column(&table::BARREL, 4 * i * table::N_BARREL, table::N_BARREL, x);
+            q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
+        }
+        [1.0, 1.0 / v, 1.0, 1.0 / v]
+    } else {
+        let u = ((z - k - l) / k).min(1.0);
+        let rs = (1.0 - u * u).max(0.0).sqrt().max(MIN_SURFACE_RADIUS_RATIO);
+        let x = u / table::TOP_U_MAX * (table::N_TOP - 1) as f64;
+        let beta = (-2.0 * XI[0] * l).exp() * (table::N_BETA - 1) as f64;
+        let (bn, bw) = linear(table::N_BETA, beta);
+        for (&i, w) in kn.iter().zip(kw) {
+            for (&b, wb) in bn.iter().zip(bw) {
+                let base = 4 * table::N_TOP * (b + table::N_BETA * i);
+                let c = column(&table::TOP, base, table::N_TOP, x);
+                q.iter_mut().zip(c).for_each(|(a, b)| *a += w * wb * b);
+            }
+        }
+        let m = rs * rs * rs / v;
+        [1.0 / rs, m, 1.0 / rs, m]
+    };
+    [0, 1].map(|n| {
+        let omega2 = q[2 * n] * scale[2 * n];
+        ModeShape {
+            mass_ratio: q[2 * n + 1] * scale[2 * n + 1],
+            length_ratio: 1.0 / omega2,
+            omega2_ratio: omega2,
+        }
+    })
 }
 
 /// Smooth-wall viscous damping ratio (Mikishev & Dorozhkin, via SP-106 eq. 4.7).
