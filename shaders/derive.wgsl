@@ -145,8 +145,11 @@ fn ullage_temperature(m_v: f32, m_g: f32, u: f32, rho_v: f32) -> f32 {
 // ---------------------------------------------------------------- homogeneous level
 
 fn vapor_mass(m_p: f32, t: f32) -> f32 {
-    let rho_v = fl_rho_v_sat(t);
-    let rho_l = fl_rho_l(t);
+    return vapor_mass_at(m_p, fl_rho_v_sat(t), fl_rho_l(t));
+}
+
+// vapor_mass from the saturated densities the caller already has.
+fn vapor_mass_at(m_p: f32, rho_v: f32, rho_l: f32) -> f32 {
     return clamp(rho_v * (tank_volume() - m_p / rho_l) / (1.0 - rho_v / rho_l), 0.0, m_p);
 }
 
@@ -160,10 +163,11 @@ fn saturated_vapor(t: f32) -> vec3<f32> {
 
 // Internal energy of all fluid at t: liquid u_l = h_l - P_sat/rho_l, saturated vapour, helium.
 fn fluid_energy(m_p: f32, m_g: f32, t: f32) -> f32 {
-    let m_v = vapor_mass(m_p, t);
-    let u_v = saturated_vapor(t).y;
-    let u_l = fl_h_l(t) - fl_psat_pa(t) / fl_rho_l(t);
-    return (m_p - m_v) * u_l + m_v * u_v + m_g * HE.cv * t;
+    let sv = saturated_vapor(t);
+    let rho_l = fl_rho_l(t);
+    let m_v = vapor_mass_at(m_p, sv.x, rho_l);
+    let u_l = fl_h_l(t) - fl_psat_pa(t) / rho_l;
+    return (m_p - m_v) * u_l + m_v * sv.y + m_g * HE.cv * t;
 }
 
 /// Newton on E(T) = e safeguarded by bisection on [t_min - 3 K, t_max + 3 K]

@@ -22,8 +22,11 @@ use crate::lanes::{c, Mask, Real};
 /// m_v = ρ_v (V − m_p/ρ_l) / (1 − ρ_v/ρ_l), ρ_v the saturated-vapour density.
 fn vapor_mass<T: Real>(g: Group<'_>, m_p: T, t: T) -> T {
     let f = g.shared().fluid.props();
-    let rho_v = f.rho_v_sat_kg_per_m3(t);
-    let rho_l = f.rho_l_kg_per_m3(t);
+    vapor_mass_at(g, m_p, f.rho_v_sat_kg_per_m3(t), f.rho_l_kg_per_m3(t))
+}
+
+/// [`vapor_mass`] from the saturated densities `rho_v`, `rho_l` (kg/m³) the caller already has.
+fn vapor_mass_at<T: Real>(g: Group<'_>, m_p: T, rho_v: T, rho_l: T) -> T {
     let v_tank: T = g.get(|p| p.tank.volume_m3());
     (rho_v * (v_tank - m_p / rho_l) / (rho_v / rho_l).rsub(1.0))
         .max_c(0.0)
@@ -31,12 +34,14 @@ fn vapor_mass<T: Real>(g: Group<'_>, m_p: T, t: T) -> T {
 }
 
 /// Internal energy of all fluid at equilibrium temperature `t`, J: liquid m_l u_l(T), saturated
-/// vapour m_v u_v(T) ([`saturated_vapor`]) and helium m_g c_v,He T.
+/// vapour m_v u_v(T) ([`saturated_vapor`]) and helium m_g c_v,He T. Each fit is evaluated once
+/// (the Newton solve of [`temperature`] calls this three times per step).
 pub fn fluid_energy<T: Real>(g: Group<'_>, m_p: T, m_g: T, t: T) -> T {
     let f = g.shared().fluid.props();
-    let m_v = vapor_mass(g, m_p, t);
-    let (_, u_v, _) = saturated_vapor(g, t);
-    let u_l = f.h_l_j_per_kg(t) - f.psat_pa(t) / f.rho_l_kg_per_m3(t);
+    let (rho_v, u_v, _) = saturated_vapor(g, t);
+    let rho_l = f.rho_l_kg_per_m3(t);
+    let m_v = vapor_mass_at(g, m_p, rho_v, rho_l);
+    let u_l = f.h_l_j_per_kg(t) - f.psat_pa(t) / rho_l;
     (m_p - m_v) * u_l + m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t
 }
 
