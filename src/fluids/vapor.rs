@@ -112,12 +112,6 @@ impl FluidProps {
         rho_kg_per_m3 * t_k * self.r_specific_j_per_kg_k() * z
     }
 
-    /// Residual (real − ideal gas) enthalpy of the vapour, J/kg: `R T (Z − 1 + u_res/(R T))`.
-    pub fn vapor_h_res_j_per_kg<T: Real>(&self, t_k: T, rho_kg_per_m3: T) -> T {
-        let (z, u) = self.vapor_z_u_res(t_k, rho_kg_per_m3);
-        (z - 1.0 + u) * t_k * self.r_specific_j_per_kg_k()
-    }
-
     /// Residual internal energy of the vapour, J/kg: `R T u_res/(R T)`.
     pub fn vapor_u_res_j_per_kg<T: Real>(&self, t_k: T, rho_kg_per_m3: T) -> T {
         self.vapor_z_u_res(t_k, rho_kg_per_m3).1 * t_k * self.r_specific_j_per_kg_k()
