@@ -16,7 +16,8 @@ fn liquid_props(t: f32) -> Conv {
     return Conv(fl_k_l(t), fl_mu_l(t), rho, fl_cp_l(t), -fl_drho_l_dt(t) / rho);
 }
 
-fn gas_props(s: ptr<function, St>, x: Derived) -> Conv {
+/// cp_v: the vapour's ideal-gas c_p0 at the ullage temperature (nodes.rs::gas_props).
+fn gas_props(s: ptr<function, St>, x: Derived, cp_v: f32) -> Conv {
     let m = x.m_v + (*s)[M_G];
     let y = select(1.0, x.m_v / m, m > 0.0);
     let t = x.t_u;
@@ -24,7 +25,7 @@ fn gas_props(s: ptr<function, St>, x: Derived) -> Conv {
         y * fl_k_v(t) + (1.0 - y) * he_k(t),
         y * fl_mu_v(t) + (1.0 - y) * he_mu(t),
         m / x.v_u,
-        y * FL.cp_vapor + (1.0 - y) * HE.cp,
+        y * cp_v + (1.0 - y) * HE.cp,
         1.0 / t,
     );
 }
@@ -118,8 +119,9 @@ fn boundary_flows(s: ptr<function, St>, d: Drive, x: Derived) -> Bnd {
         let rv = fl_r_specific();
         let rg = he_r_specific();
         let r_mix = y * rv + (1.0 - y) * rg;
-        let cp = y * FL.cp_vapor + (1.0 - y) * HE.cp;
-        let cv = y * FL.cv_vapor + (1.0 - y) * HE.cv;
+        let cv_v = fl_vapor_ideal(x.t_u).y;
+        let cp = y * (cv_v + rv) + (1.0 - y) * HE.cp;
+        let cv = y * cv_v + (1.0 - y) * HE.cv;
         let back = ambient_pressure((*s)[ALT]);
         b.vent = orifice_flow(P.relief_area_m2, x.p_u, back, x.t_u, r_mix, cp / cv);
     }
@@ -205,14 +207,17 @@ fn boundary_ledger(b: Bnd, h_press: f32, h_u: f32, e_out: f32, ds: ptr<function,
     (*ds)[E_OUT] = e_out;
 }
 
-/// Pressurant enthalpy at the inlet temperature, J/kg (boundary::pressurant_inlet_enthalpy):
-/// helium, or the propellant's vapour on the ullage's reference when autogenous.
-fn pressurant_inlet_enthalpy() -> f32 {
+/// Pressurant enthalpy at the inlet temperature entering at the ullage pressure p_u, J/kg
+/// (boundary::pressurant_inlet_enthalpy): helium, or the propellant's real-gas vapour on the
+/// ullage's reference when autogenous.
+fn pressurant_inlet_enthalpy(p_u: f32) -> f32 {
     if ((P.flags & FLAG_PRESSURIZATION) == 0u) {
         return 0.0;
     }
     if ((P.flags & FLAG_AUTOGENOUS) != 0u) {
-        return FL.cp_vapor * P.press_gas_t + FL.vapor_offset;
+        let t_in = P.press_gas_t;
+        let u0 = fl_vapor_ideal(t_in).x;
+        return u0 + t_in * fl_r_specific() + FL.vapor_offset + fl_vapor_h_res_at_tp(t_in, p_u);
     }
     return HE.cp * P.press_gas_t;
 }

@@ -126,14 +126,16 @@ fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
 }
 
 // Ullage temperature from its energy with real-gas vapour (derive.rs::ullage_temperature):
-// Newton from the ideal-gas root until the step is a few f32 ulps (at most 12 steps).
+// Newton from the root of the ideal gas linearised at the middle of the liquid range until the
+// step is a few f32 ulps (at most 12 steps).
 fn ullage_temperature(m_v: f32, m_g: f32, u: f32, rho_v: f32) -> f32 {
-    let heat_cap = m_v * FL.cv_vapor + m_g * HE.cv;
-    var t = (u - m_v * FL.vapor_offset) / heat_cap;
+    let cv_g = m_g * HE.cv;
+    var t = (u - m_v * FL.ideal_u_ref) / (m_v * FL.ideal_cv_ref + cv_g);
     for (var i = 0; i < 12; i++) {
         let v = fl_vapor_state(t, rho_v);
-        let r = m_v * v.u_res + heat_cap * t + m_v * FL.vapor_offset - u;
-        let step = r / (heat_cap + m_v * v.du_res_dt);
+        let id = fl_vapor_ideal(t);
+        let r = m_v * (id.x + FL.vapor_offset + v.u_res) + cv_g * t - u;
+        let step = r / (m_v * (id.y + v.du_res_dt) + cv_g);
         t = t - step;
         if abs(step) <= 3e-7 * abs(t) {
             break;
@@ -157,7 +159,7 @@ fn vapor_mass_at(m_p: f32, rho_v: f32, rho_l: f32) -> f32 {
 fn saturated_vapor(t: f32) -> vec3<f32> {
     let rho_v = fl_rho_v_sat(t);
     let v = fl_vapor_state(t, rho_v);
-    let u_v = FL.cv_vapor * t + FL.vapor_offset + v.u_res;
+    let u_v = fl_vapor_ideal(t).x + FL.vapor_offset + v.u_res;
     return vec3<f32>(rho_v, u_v, u_v + v.z * fl_r_specific() * t);
 }
 

@@ -235,6 +235,29 @@ fn fl_vapor_state(t_in: f32, rho: f32) -> VaporState {
     return v;
 }
 
+// The vapour's ideal-gas part at t (K) (FluidProps::vapor_ideal): (u0 J/kg on the fit's own
+// reference, c_v0 J/(kg K)); c_v0 held outside [ideal_t_lo, ideal_t_hi]. Horner written out.
+fn fl_vapor_ideal(t: f32) -> vec2<f32> {
+    let tc = clamp(t, FL.ideal_t_lo, FL.ideal_t_hi);
+    let s = sqrt(tc);
+    let x = (s - FL.ideal_s_lo) * (2.0 * FL.ideal_inv_span) - 1.0;
+    let q = FL.ideal[0] + x * (FL.ideal[1] + x * (FL.ideal[2] + x * (FL.ideal[3] + x * (FL.ideal[4] + x * (FL.ideal[5] + x * (FL.ideal[6] + x * (FL.ideal[7] + x * (FL.ideal[8] + x * (FL.ideal[9] + x * (FL.ideal[10] + x * (FL.ideal[11] + x * (FL.ideal[12] + x * (FL.ideal[13] + x * (FL.ideal[14] + x * (FL.ideal[15])))))))))))))));
+    let dq = FL.ideal[1] + x * (2.0 * FL.ideal[2] + x * (3.0 * FL.ideal[3] + x * (4.0 * FL.ideal[4] + x * (5.0 * FL.ideal[5] + x * (6.0 * FL.ideal[6] + x * (7.0 * FL.ideal[7] + x * (8.0 * FL.ideal[8] + x * (9.0 * FL.ideal[9] + x * (10.0 * FL.ideal[10] + x * (11.0 * FL.ideal[11] + x * (12.0 * FL.ideal[12] + x * (13.0 * FL.ideal[13] + x * (14.0 * FL.ideal[14] + x * (15.0 * FL.ideal[15]))))))))))))));
+    let cv = q + dq * s * FL.ideal_inv_span;
+    let rs = fl_r_specific();
+    return vec2<f32>((tc * q + cv * (t - tc)) * rs, cv * rs);
+}
+
+// Residual enthalpy h - h0 (J/kg) of the vapour at (t, p) (FluidProps::vapor_h_res_at_tp): at the
+// density of one fixed-point step from the ideal gas.
+fn fl_vapor_h_res_at_tp(t: f32, p: f32) -> f32 {
+    let rt = max(t, 1.0) * fl_r_specific();
+    let rho0 = max(p, 0.0) / rt;
+    let z0 = fl_vapor_state(t, rho0).z;
+    let v = fl_vapor_state(t, rho0 / z0);
+    return v.u_res + (v.z - 1.0) * rt;
+}
+
 // Latent heat (J/kg) at t (K), clamped outside the range.
 fn fl_h_fg(t: f32) -> f32 {
     return fl_poly(FL.h_fg, fl_x_clamped(t));

@@ -128,15 +128,22 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let a_dry = a_tot * (1.0 - x.wet);
     let speed = slosh_speed(s, x);
 
+    // Real-gas vapour at the ullage state (nodes.rs::closure): ideal part, residual part and
+    // the ullage's heat capacity at constant volume.
+    let rho_v = (*s)[M_V] / x.v_u;
+    let vapor = fl_vapor_state(t_u, rho_v);
+    let ideal = fl_vapor_ideal(t_u);
+    let u_vap = ideal.x + FL.vapor_offset + vapor.u_res;
+    let c_gas = (*s)[M_V] * (ideal.y + vapor.du_res_dt) + (*s)[M_G] * HE.cv;
+
     let liq = liquid_props(t_b);
-    let gas = gas_props(s, x);
+    let gas = gas_props(s, x, ideal.y + fl_r_specific());
     let h_w = wall_coefficients(x, liq, gas, t_b, t_u);
     let h_wl = h_w.x;
     let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let bulk_gone = (*s)[M_B] <= 0.0;
     let c_bulk = max(select((*s)[M_B], (*s)[M_S], bulk_gone), 1.0e-9) * liq.cp;
-    let c_gas = (*s)[M_V] * FL.cv_vapor + (*s)[M_G] * HE.cv;
     let warming = P.heat_leak_w / c_wall;
     let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b, warming);
     let depth = x.v_s / a_i;
@@ -174,13 +181,10 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     let h_ls = fl_h_l(t_s);
     let h_lb = fl_h_l(t_b);
-    let rho_v = (*s)[M_V] / x.v_u;
-    let vapor = fl_vapor_state(t_u, rho_v);
-    let u_vap = FL.cv_vapor * t_u + FL.vapor_offset + vapor.u_res;
     let h_vap_gas = u_vap + vapor.z * fl_r_specific() * t_u;
     let y = b.y;
     let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
-    let h_press = pressurant_inlet_enthalpy();
+    let h_press = pressurant_inlet_enthalpy(x.p_u);
     let press_v = b.press * pressurant_vapor_share();
     let pu = x.p_u;
 
@@ -211,7 +215,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.du_res_drho = vapor.du_res_drho;
     c.dp_dt = vapor.dp_dt;
     c.dp_drho = vapor.dp_drho;
-    c.c_u = (*s)[M_V] * (FL.cv_vapor + vapor.du_res_dt) + (*s)[M_G] * HE.cv;
+    c.c_u = c_gas;
     c.vent = b.vent;
     c.y = y;
     c.press = b.press;
@@ -248,13 +252,14 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let a_dry = a_tot * (1.0 - x.wet);
     let rho = x.rho_b;
     let liq = liquid_props(t);
-    let gas = gas_props(s, x);
+    let cv_vapor = fl_vapor_ideal(t).y;
+    let gas = gas_props(s, x, cv_vapor + fl_r_specific());
     let m_u = x.m_v + (*s)[M_G];
     let h_w = wall_coefficients(x, liq, gas, t, t);
     let h_wl = h_w.x;
     let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
-    let c_fluid = x.m_l * liq.cp + m_u * FL.cv_vapor;
+    let c_fluid = x.m_l * liq.cp + m_u * cv_vapor;
     let warming = P.heat_leak_w / c_wall;
     let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_fluid, x.t_ww - t, warming);
     let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid, x.t_wd - t, warming);
@@ -265,7 +270,7 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let h_v = saturated_vapor(t).z;
     let h_u = b.y * h_v + (1.0 - b.y) * HE.cp * t;
     let h_l = fl_h_l(t);
-    let h_press = pressurant_inlet_enthalpy();
+    let h_press = pressurant_inlet_enthalpy(x.p_u);
     let press_v = b.press * pressurant_vapor_share();
 
     (*ds)[M_B] = press_v - b.out - b.vent * b.y;

@@ -48,7 +48,7 @@ type FluidFn = fn(&FluidProps, f64) -> f64;
 type TankFn = fn(&Tank, f64) -> f64;
 
 /// WGSL call (argument `a`), input grid, Rust reference and max relative error allowed.
-const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 24] = [
+const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 27] = [
     ("fl_psat_pa(a)", Grid::LiquidT, |f, t| f.psat_pa(t), 5e-6),
     (
         "fl_dpsat_dt(a)",
@@ -125,6 +125,31 @@ const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 24] = [
         Grid::LiquidT,
         |f, t| f.vapor_state(t, f.rho_v_sat_kg_per_m3(t)).dp_drho,
         1e-5,
+    ),
+    // f32 Horner over 16 monomial coefficients up to |67| (para-hydrogen): a few 1e-5.
+    (
+        "fl_vapor_ideal(a).y",
+        Grid::GasT,
+        |f, t| f.vapor_ideal(t).1,
+        5e-5,
+    ),
+    // u⁰ crosses zero on the fit's own reference: shifted by 1e7 J/kg (at 300 K, 5e-5 of that
+    // bounds the absolute error at 500 J/kg, 1e-4 of hydrogen's u⁰ there).
+    (
+        "fl_vapor_ideal(a).x + 1.0e7",
+        Grid::GasT,
+        |f, t| f.vapor_ideal(t).0 + 1.0e7,
+        5e-5,
+    ),
+    // A warm vapour (4 T) at P_sat(T) (at most 2 MPa); plus R T so that it stays away from zero.
+    (
+        "fl_vapor_h_res_at_tp(4.0 * a, min(fl_psat_pa(a), 2.0e6)) + 4.0 * a * fl_r_specific()",
+        Grid::LiquidT,
+        |f, t| {
+            let p = f.psat_pa(t).min(2.0e6);
+            f.vapor_h_res_at_tp(4.0 * t, p) + 4.0 * t * f.r_specific_j_per_kg_k()
+        },
+        2e-5,
     ),
     ("fl_mu_l(a)", Grid::LiquidT, |f, t| f.mu_l_pa_s(t), 5e-6),
     ("fl_k_v(a)", Grid::GasT, |f, t| f.k_v_w_per_m_k(t), 5e-6),

@@ -14,6 +14,12 @@ Fit forms (see ``src/fluids/mod.rs`` for the evaluation side):
   maximum relative error at the fixture rows (the absolute error of ln P and
   ln mu), minimised by Lawson's iteratively re-weighted least squares started
   from the weighted least-squares solution.
+* Vapour ideal-gas part: ``u0 / R = T Q(x)`` (plus a constant that the model's energy reference
+  absorbs), ``Q`` a degree-15 polynomial in ``x = 2 (sqrt(T) - sqrt(T_lo)) / (sqrt(T_hi) -
+  sqrt(T_lo)) - 1`` over the ideal-gas fixture's range, so that ``c_v0 / R = Q + Q'(x) T dx/dT``
+  is its exact derivative (the ullage's Newton solve for T needs the pair consistent). Fitted by
+  joint least squares on c_v0 (relative) and u0 (relative to its span) -- equilibrium
+  para-hydrogen's rotational bump near 150 K is what needs the degree.
 * Vapour / helium: power laws ``y = y_ref (T / t_ref)^n`` with
   ``t_ref = sqrt(T_lo T_hi)`` of the gas fixture's range, fitted for minimax
   relative error (exact for a fixed exponent, golden-section search on n).
@@ -67,6 +73,9 @@ H_L_TOL = 2e-3
 VIRIAL_K, VIRIAL_J = 4, 6
 # Density contract of the virial fit (tests/fluids.rs): saturated vapour, superheated to 3 T_sat.
 VIRIAL_TOL_SAT, VIRIAL_TOL_SUPER = 0.01, 0.02
+# Vapour ideal-gas part (tests/fluids.rs): c_v0 relative, u0 as a share of its span over the range.
+NIDEAL = 16
+IDEAL_CV_TOL, IDEAL_U_TOL = 0.01, 1e-3
 POWER_LAW_TOL = 0.15
 # Para-hydrogen's rotational heat capacity peaks near 150 K and lifts its gas conductivity there
 # by ~17 % above any single power law fitted over 14..400 K (normal hydrogen, 75 % ortho, has no
@@ -217,6 +226,42 @@ def virial_density(c, t_crit, rho_crit, r_spec, t, p):
     return rho
 
 
+def ideal_basis(t: np.ndarray, t_lo: float, t_hi: float, dtype=np.float64):
+    """Columns of u0/R = T Q(x) and c_v0/R = Q + Q'(x) T dx/dT in the coefficients of Q."""
+    s_lo, s_hi = math.sqrt(t_lo), math.sqrt(t_hi)
+    s = np.sqrt(t)
+    x = 2.0 * (s - s_lo) / (s_hi - s_lo) - 1.0
+    g = s / (s_hi - s_lo)
+    vu = np.column_stack([t * x**k for k in range(NIDEAL)])
+    vc = np.column_stack([x**k + (k * x ** max(k - 1, 0) * g if k > 0 else 0.0 * x) for k in range(NIDEAL)])
+    return vu.astype(dtype), vc.astype(dtype), x
+
+
+def fit_ideal(consts: dict[str, float], col: dict[str, np.ndarray], r_spec: float):
+    """Coefficients of Q and the errors (c_v0 relative, u0 share of span, c_v0 in f32)."""
+    t_lo, t_hi = consts["fit_t_lo_k"], consts["fit_t_hi_k"]
+    t, cv, u = col["t_k"], col["cv0_j_kgk"] / r_spec, col["u0_j_kg"] / r_spec
+    vu, vc, x = ideal_basis(t, t_lo, t_hi)
+    span = float(u.max() - u.min())
+    wu, wc = 50.0 / span, 1.0 / cv
+    ones = np.ones((len(t), 1))
+    a = np.vstack([np.hstack([vu, -ones]) * wu, np.hstack([vc, 0.0 * ones]) * wc[:, None]])
+    b = np.concatenate([u * wu, cv * wc])
+    sol, *_ = np.linalg.lstsq(a, b, rcond=None)
+    c, shift = sol[:NIDEAL], sol[NIDEAL]
+    e_cv = float(np.max(np.abs(vc @ c / cv - 1.0)))
+    e_u = float(np.max(np.abs(vu @ c - shift - u)) / span)
+    # f32 Horner as the WGSL backend evaluates c_v0 = Q + Q' g
+    c32, x32 = c.astype(np.float32), x.astype(np.float32)
+    q, dq = np.zeros_like(x32), np.zeros_like(x32)
+    for k in range(NIDEAL - 1, -1, -1):
+        dq = dq * x32 + q if k < NIDEAL - 1 else dq
+        q = q * x32 + c32[k]
+    g32 = (np.sqrt(t) / (math.sqrt(t_hi) - math.sqrt(t_lo))).astype(np.float32)
+    e32 = float(np.max(np.abs((q + dq * g32).astype(np.float64) / cv - 1.0)))
+    return c, e_cv, e_u, e32
+
+
 def horner(c: np.ndarray, x: np.ndarray) -> np.ndarray:
     acc = np.full_like(x, c[-1])
     for a in c[-2::-1]:
@@ -361,6 +406,13 @@ def main() -> None:
         if e_sat > VIRIAL_TOL_SAT or e_sup > VIRIAL_TOL_SUPER:
             failures.append(f"{stem} virial density: sat {e_sat:.2e}, superheated {e_sup:.2e}")
 
+        iconsts, _, icol, version = read_csv(fix / f"{stem}_ideal_gas.csv")
+        versions.add(version)
+        ideal, e_cv0, e_u0, e_cv32 = fit_ideal(iconsts, icol, r_spec)
+        report.append(f"{stem:5} ideal gas: c_v0 {e_cv0:.1e} (f32 {e_cv32:.1e})  u0 {e_u0:.1e} of span")
+        if e_cv0 > IDEAL_CV_TOL or e_u0 > IDEAL_U_TOL:
+            failures.append(f"{stem} ideal gas: c_v0 {e_cv0:.2e}, u0 {e_u0:.2e}")
+
         b = [
             f"/// {desc}: constants and fit coefficients.",
             "///",
@@ -374,7 +426,9 @@ def main() -> None:
             f"mu_l {rel_err(coefs['ln_mu_l'], x, col['mu_l_pa_s'], True):.1e}, "
             f"k_v {k_err:.1e}, mu_v {mu_err:.1e}, rho_v,sat {rel_err(coefs['ln_rho_v'], x, col['rho_v_kg_m3'], True):.1e};",
             f"/// h_l {h_err:.1e} of h_fg; virial vapour density: saturated {e_sat:.1e}, superheated to",
-            f"/// 3 T_sat {e_sup:.1e} (beyond, to 400 K: {e_warm:.1e}), u_res/(R T) {e_u:.1e} absolute.",
+            f"/// 3 T_sat {e_sup:.1e} (beyond, to 400 K: {e_warm:.1e}), u_res/(R T) {e_u:.1e} absolute;",
+            f"/// ideal-gas c_v0 {e_cv0:.1e}, u0 {e_u0:.1e} of its span over "
+            f"{iconsts['fit_t_lo_k']:.3f} .. {iconsts['fit_t_hi_k']:.0f} K.",
             f"pub const {stem.upper()}: FluidProps = FluidProps {{",
             f"    molar_mass_kg_per_mol: {lit(consts['molar_mass_kg_per_mol'])},",
             f"    t_triple_k: {lit(consts['t_triple_k'])},",
@@ -382,8 +436,8 @@ def main() -> None:
             f"    p_crit_pa: {lit(consts['p_crit_pa'])},",
             f"    t_min_k: {lit(t_min)},",
             f"    t_max_k: {lit(t_max)},",
-            f"    cp_vapor_j_per_kg_k: {lit(consts['cp_vapor_j_per_kg_k'])},",
-            f"    cv_vapor_j_per_kg_k: {lit(consts['cv_vapor_j_per_kg_k'])},",
+            f"    ideal_t_lo_k: {lit(iconsts['fit_t_lo_k'])},",
+            f"    ideal_t_hi_k: {lit(iconsts['fit_t_hi_k'])},",
             f"    k_vapor_ref_w_per_m_k: {lit(k_ref)},",
             f"    k_vapor_exp: {lit(k_exp)},",
             f"    mu_vapor_ref_pa_s: {lit(mu_ref)},",
@@ -395,6 +449,7 @@ def main() -> None:
             b += arr(key, coefs[key])
         b += arr("dh_l_sat", dh_l)
         b += arr("vapor_virial", virial)
+        b += arr("vapor_ideal", ideal)
         b.append("};")
         blocks.append("\n".join(b))
 

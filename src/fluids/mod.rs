@@ -77,11 +77,12 @@
 //!
 //! # Vapour and helium
 //!
-//! The propellant vapour and the helium pressurant are ideal gases with constant
-//! `c_p`, `c_v` (CoolProp ideal-gas `CP0MASS`; `c_v = c_p − R_u/M` with
-//! [`R_UNIVERSAL`]). For the propellants `c_p` is taken at the middle of the liquid
-//! range; note that hydrogen's `c_p⁰` rises from 10.3 kJ/(kg K) there to
-//! 14.3 kJ/(kg K) at 300 K, which this constant does not capture. Gas thermal
+//! The propellant vapour is a real gas ([`vapor`]): a virial residual part on an ideal-gas part
+//! whose `c_v⁰(T)` follows CoolProp's `CP0MASS` from `t_min_k − 5 K` to 650 K (hydrogen's
+//! rises from 1.5 R at 20 K to 3.5 R at 300 K, equilibrium para-hydrogen's through a
+//! rotational bump of 3.9 R near 150 K; methane's from 3 R to 5.3 R at 600 K). Helium is an
+//! ideal gas with constant `c_p`, `c_v` (`CP0MASS`; `c_v = c_p − R_u/M` with
+//! [`R_UNIVERSAL`]). Gas thermal
 //! conductivity and viscosity are power laws `y = y_ref (T / t_ref)^n` because the
 //! ullage can be far warmer than saturation: the propellant laws are fitted over
 //! `t_min_k .. 400 K` at `P_fit = 0.5 P_sat(t_min_k)` (single-phase gas over the
@@ -220,11 +221,10 @@ pub struct FluidProps {
     pub t_min_k: f64,
     /// Upper end of the fitted range in K: `0.93 t_crit_k`.
     pub t_max_k: f64,
-    /// Vapour ideal-gas isobaric specific heat in J/(kg K) (CoolProp `CP0MASS` at the
-    /// middle of the liquid range).
-    pub cp_vapor_j_per_kg_k: f64,
-    /// Vapour ideal-gas isochoric specific heat in J/(kg K): `cp_vapor − R_u/M`.
-    pub cv_vapor_j_per_kg_k: f64,
+    /// Lower end of the vapour ideal-gas fit in K (`t_min_k − 5`); below it `c_v⁰` is held.
+    pub ideal_t_lo_k: f64,
+    /// Upper end of the vapour ideal-gas fit in K (650); above it `c_v⁰` is held.
+    pub ideal_t_hi_k: f64,
     /// Vapour thermal conductivity at `vapor_t_ref_k`, in W/(m K) (power-law fit).
     pub k_vapor_ref_w_per_m_k: f64,
     /// Exponent of the vapour thermal-conductivity power law (dimensionless).
@@ -258,6 +258,9 @@ pub struct FluidProps {
     /// Vapour virial coefficients `c_kj` (k = 1..4 outer, j = 0..5 inner) of
     /// `Z = 1 + Σ_k (ρ/ρ_c)^k Σ_j c_kj (τ − 1)^j`, `τ = T_c/T` (see [`vapor`]).
     pub vapor_virial: [f64; 24],
+    /// Vapour ideal-gas coefficients: `u⁰/R = T Q(x)`, `Q = Σ_k q_k x^k` (k = 0..15),
+    /// `x = 2 (√T − √T_lo)/(√T_hi − √T_lo) − 1` (see [`vapor`]; CoolProp `CP0MASS`).
+    pub vapor_ideal: [f64; 16],
 }
 
 /// Horner evaluation of `Σ c_i x^i`.

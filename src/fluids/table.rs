@@ -21,7 +21,8 @@ use super::{FluidProps, GasProps};
 /// Max relative error at the fixture rows: P_sat 8.9e-06, rho_l 4.9e-05, c_p 3.1e-03,
 /// h_fg 1.1e-04, k_l 2.8e-04, mu_l 8.0e-05, k_v 1.6e-01, mu_v 1.1e-01, rho_v,sat 1.0e-04;
 /// h_l 2.0e-05 of h_fg; virial vapour density: saturated 4.8e-05, superheated to
-/// 3 T_sat 6.0e-05 (beyond, to 400 K: 1.9e-04), u_res/(R T) 6.0e-04 absolute.
+/// 3 T_sat 6.0e-05 (beyond, to 400 K: 1.9e-04), u_res/(R T) 6.0e-04 absolute;
+/// ideal-gas c_v0 3.8e-03, u0 2.1e-05 of its span over 9.803 .. 650 K.
 pub const LH2: FluidProps = FluidProps {
     molar_mass_kg_per_mol: 0.00201588,
     t_triple_k: 13.8033,
@@ -29,8 +30,8 @@ pub const LH2: FluidProps = FluidProps {
     p_crit_pa: 1285776.1785274085,
     t_min_k: 14.8033,
     t_max_k: 30.632205214091407,
-    cp_vapor_j_per_kg_k: 10311.221394645028,
-    cv_vapor_j_per_kg_k: 6186.738479987409,
+    ideal_t_lo_k: 9.8033,
+    ideal_t_hi_k: 650.0,
     k_vapor_ref_w_per_m_k: 0.058572613060131465,
     k_vapor_exp: 0.9226707692922596,
     mu_vapor_ref_pa_s: 3.060752006975585e-06,
@@ -143,6 +144,24 @@ pub const LH2: FluidProps = FluidProps {
         -92.57857765151851,
         -92.38676781532664,
     ],
+    vapor_ideal: [
+        2.669969079129612,
+        0.3255954231604538,
+        -1.335990767127744,
+        0.5058404262385076,
+        5.713776439323346,
+        -13.40893731031119,
+        3.6331699330680487,
+        29.48083148580539,
+        -32.96946343423482,
+        -29.964723447900088,
+        63.40216302394899,
+        2.8394265109765207,
+        -52.002045453640214,
+        14.652729289425025,
+        17.397374657275446,
+        -8.33670971861699,
+    ],
 };
 
 /// Liquid oxygen (CoolProp `Oxygen`): constants and fit coefficients.
@@ -151,7 +170,8 @@ pub const LH2: FluidProps = FluidProps {
 /// Max relative error at the fixture rows: P_sat 2.1e-04, rho_l 9.3e-05, c_p 2.8e-03,
 /// h_fg 1.7e-04, k_l 1.0e-04, mu_l 2.6e-04, k_v 4.6e-02, mu_v 4.1e-02, rho_v,sat 1.3e-04;
 /// h_l 3.1e-05 of h_fg; virial vapour density: saturated 3.7e-04, superheated to
-/// 3 T_sat 2.4e-04 (beyond, to 400 K: 1.1e-04), u_res/(R T) 2.1e-03 absolute.
+/// 3 T_sat 2.4e-04 (beyond, to 400 K: 1.1e-04), u_res/(R T) 2.1e-03 absolute;
+/// ideal-gas c_v0 1.2e-06, u0 6.4e-09 of its span over 50.361 .. 650 K.
 pub const LOX: FluidProps = FluidProps {
     molar_mass_kg_per_mol: 0.0319988,
     t_triple_k: 54.361000000000004,
@@ -159,8 +179,8 @@ pub const LOX: FluidProps = FluidProps {
     p_crit_pa: 5046410.521187217,
     t_min_k: 55.361000000000004,
     t_max_k: 143.77743254681556,
-    cp_vapor_j_per_kg_k: 909.8493931388077,
-    cv_vapor_j_per_kg_k: 650.0126924500319,
+    ideal_t_lo_k: 50.361000000000004,
+    ideal_t_hi_k: 650.0,
     k_vapor_ref_w_per_m_k: 0.01296193957385892,
     k_vapor_exp: 1.0202814326178253,
     mu_vapor_ref_pa_s: 1.0809249907940676e-05,
@@ -273,6 +293,24 @@ pub const LOX: FluidProps = FluidProps {
         -1941.7040464499296,
         -407.74304992510474,
     ],
+    vapor_ideal: [
+        2.6820415009248997,
+        -0.18595606712353965,
+        0.22257573490943275,
+        -0.05507462792246685,
+        0.10998283451962756,
+        -0.12091720294681532,
+        0.014883440541485826,
+        0.02957047321378985,
+        0.028456342307250346,
+        -0.05803465696896087,
+        0.010633993298277914,
+        0.024448873882776497,
+        -0.007088509726085572,
+        -0.00989269016575284,
+        0.005438583966669209,
+        -0.0004237088080691625,
+    ],
 };
 
 /// Liquid methane (CoolProp `Methane`): constants and fit coefficients.
@@ -281,7 +319,8 @@ pub const LOX: FluidProps = FluidProps {
 /// Max relative error at the fixture rows: P_sat 8.3e-06, rho_l 3.9e-05, c_p 1.4e-03,
 /// h_fg 7.9e-05, k_l 1.6e-05, mu_l 7.1e-05, k_v 2.0e-02, mu_v 4.0e-02, rho_v,sat 8.6e-05;
 /// h_l 1.3e-05 of h_fg; virial vapour density: saturated 1.3e-05, superheated to
-/// 3 T_sat 2.0e-05 (beyond, to 400 K: 6.9e-06), u_res/(R T) 8.2e-05 absolute.
+/// 3 T_sat 2.0e-05 (beyond, to 400 K: 6.9e-06), u_res/(R T) 8.2e-05 absolute;
+/// ideal-gas c_v0 7.5e-07, u0 3.6e-09 of its span over 86.694 .. 650 K.
 pub const LCH4: FluidProps = FluidProps {
     molar_mass_kg_per_mol: 0.0160428,
     t_triple_k: 90.6941,
@@ -289,8 +328,8 @@ pub const LCH4: FluidProps = FluidProps {
     p_crit_pa: 4599200.474282439,
     t_min_k: 91.6941,
     t_max_k: 177.2245224656969,
-    cp_vapor_j_per_kg_k: 2074.991754656135,
-    cv_vapor_j_per_kg_k: 1556.7242067218592,
+    ideal_t_lo_k: 86.6941,
+    ideal_t_hi_k: 650.0,
     k_vapor_ref_w_per_m_k: 0.02065945458315969,
     k_vapor_exp: 1.171173030551306,
     mu_vapor_ref_pa_s: 7.247829618370079e-06,
@@ -403,6 +442,24 @@ pub const LCH4: FluidProps = FluidProps {
         -568.7654259039084,
         -2262.4403446415004,
     ],
+    vapor_ideal: [
+        -2.975362185536015,
+        5.850839130099107,
+        -3.4766505669679995,
+        2.647951018280155,
+        -1.5696728634376858,
+        0.6898362278448468,
+        -0.2909124230657813,
+        0.23195751608178222,
+        -0.21037121910279016,
+        0.10225162853348833,
+        0.004176520609050003,
+        -0.021018060036484557,
+        -0.010295732535157752,
+        0.017651860276593045,
+        -0.005171070267815969,
+        -0.00017261282669655162,
+    ],
 };
 
 /// Liquid nitrogen (CoolProp `Nitrogen`): constants and fit coefficients.
@@ -411,7 +468,8 @@ pub const LCH4: FluidProps = FluidProps {
 /// Max relative error at the fixture rows: P_sat 3.8e-06, rho_l 3.0e-05, c_p 1.2e-03,
 /// h_fg 5.9e-05, k_l 1.0e-04, mu_l 7.6e-05, k_v 4.1e-02, mu_v 3.5e-02, rho_v,sat 6.9e-05;
 /// h_l 1.0e-05 of h_fg; virial vapour density: saturated 1.5e-05, superheated to
-/// 3 T_sat 1.6e-05 (beyond, to 400 K: 1.3e-05), u_res/(R T) 1.3e-04 absolute.
+/// 3 T_sat 1.6e-05 (beyond, to 400 K: 1.3e-05), u_res/(R T) 1.3e-04 absolute;
+/// ideal-gas c_v0 1.6e-07, u0 1.1e-09 of its span over 59.151 .. 650 K.
 pub const LN2: FluidProps = FluidProps {
     molar_mass_kg_per_mol: 0.02801348,
     t_triple_k: 63.151,
@@ -419,8 +477,8 @@ pub const LN2: FluidProps = FluidProps {
     p_crit_pa: 3395800.444647145,
     t_min_k: 64.15100000000001,
     t_max_k: 117.35855999961458,
-    cp_vapor_j_per_kg_k: 1038.907639168868,
-    cv_vapor_j_per_kg_k: 742.1054347301477,
+    ideal_t_lo_k: 59.15100000000001,
+    ideal_t_hi_k: 650.0,
     k_vapor_ref_w_per_m_k: 0.014243749247835943,
     k_vapor_exp: 0.9544965099391356,
     mu_vapor_ref_pa_s: 1.0278758137567182e-05,
@@ -533,6 +591,24 @@ pub const LN2: FluidProps = FluidProps {
         -167.34724827971294,
         -407.49585008775074,
     ],
+    vapor_ideal: [
+        2.4526544605121536,
+        0.052903411683838254,
+        -0.03729765024161507,
+        0.04037319914716746,
+        -0.0034463037262603808,
+        0.022654904617340665,
+        -0.015289387564509779,
+        -0.007015061233409694,
+        -2.2189799097122047e-05,
+        0.010964320374350535,
+        -0.0029458750797743734,
+        -0.004520634398876465,
+        0.0009834901494044119,
+        0.0018706097048082051,
+        -0.0006390222177978113,
+        -8.553094461543945e-05,
+    ],
 };
 
 /// Normal liquid hydrogen, 75 % ortho (CoolProp `Hydrogen`): constants and fit coefficients.
@@ -541,7 +617,8 @@ pub const LN2: FluidProps = FluidProps {
 /// Max relative error at the fixture rows: P_sat 8.4e-06, rho_l 5.0e-05, c_p 3.2e-03,
 /// h_fg 1.1e-04, k_l 4.1e-04, mu_l 8.2e-05, k_v 4.2e-02, mu_v 1.1e-01, rho_v,sat 1.0e-04;
 /// h_l 2.0e-05 of h_fg; virial vapour density: saturated 6.3e-05, superheated to
-/// 3 T_sat 6.9e-05 (beyond, to 400 K: 2.0e-04), u_res/(R T) 6.4e-04 absolute.
+/// 3 T_sat 6.9e-05 (beyond, to 400 K: 2.0e-04), u_res/(R T) 6.4e-04 absolute;
+/// ideal-gas c_v0 3.4e-04, u0 2.7e-06 of its span over 9.957 .. 650 K.
 pub const NLH2: FluidProps = FluidProps {
     molar_mass_kg_per_mol: 0.00201588,
     t_triple_k: 13.957,
@@ -549,8 +626,8 @@ pub const NLH2: FluidProps = FluidProps {
     p_crit_pa: 1296357.6060553084,
     t_min_k: 14.957,
     t_max_k: 30.82422940012951,
-    cp_vapor_j_per_kg_k: 10311.219223909364,
-    cv_vapor_j_per_kg_k: 6186.736309251744,
+    ideal_t_lo_k: 9.957,
+    ideal_t_hi_k: 650.0,
     k_vapor_ref_w_per_m_k: 0.05353060297428605,
     k_vapor_exp: 0.9147644783288675,
     mu_vapor_ref_pa_s: 3.0768154659118466e-06,
@@ -662,6 +739,24 @@ pub const NLH2: FluidProps = FluidProps {
         -38.619176398561,
         -91.35193352175739,
         -86.31338939644499,
+    ],
+    vapor_ideal: [
+        1.8599888673005773,
+        0.6825928425298122,
+        -0.005186755824066491,
+        -0.8122647652213816,
+        0.9755633791566429,
+        -0.6563647452994145,
+        -0.20962315255665193,
+        2.887904438291884,
+        -3.8619772745927703,
+        -2.9739567863330056,
+        8.64518535033091,
+        -0.807193878050892,
+        -7.370310461960839,
+        2.818828263749843,
+        2.482009575967845,
+        -1.36410047651569,
     ],
 };
 

@@ -15,7 +15,15 @@
 //! (liquid-like densities, supercritical states) the form is an extrapolation: it is valid for
 //! vapour at or below saturation density.
 //!
-//! The vapour's ideal-gas part keeps the constant `c_p`, `c_v` of [`FluidProps`].
+//! The ideal-gas part is `u⁰(T) = R T Q(x)` with `Q` a degree-15 polynomial in
+//! `x = 2 (√T − √T_lo)/(√T_hi − √T_lo) − 1` over `T_lo = t_min_k − 5 K .. T_hi = 650 K`, so that
+//! `c_v⁰ = du⁰/dT = R (Q + Q'(x) √T/(√T_hi − √T_lo))` is its exact derivative (the ullage's Newton
+//! solve for T from energy needs the pair consistent). `tools/fit_fluids.py` fits `Q` by joint
+//! least squares on CoolProp's `CP0MASS − R` and ideal-gas energy (`*_ideal_gas.csv`): `c_v⁰`
+//! within 3.8e-3 for equilibrium para-hydrogen (its ortho–para rotational bump near 150 K is what
+//! needs the degree), 3.4e-4 for normal hydrogen, 1.2e-6 or better for O₂, N₂ and CH₄; `u⁰` within
+//! 2.1e-5 of its span. Outside `[T_lo, T_hi]` `c_v⁰` is held at the end value (u⁰ continues
+//! linearly), so energy stays invertible for any temperature.
 
 use super::FluidProps;
 use crate::lanes::Real;
@@ -27,7 +35,49 @@ const J: usize = 6;
 /// Iteration cap of [`FluidProps::vapor_density_kg_per_m3`].
 const MAX_ITER: usize = 60;
 
+/// Coefficients of the ideal-gas polynomial `Q`.
+const NIDEAL: usize = 16;
+
 impl FluidProps {
+    /// The vapour's ideal-gas internal energy `u⁰` (J/kg, on the fit's own reference: only
+    /// differences matter, the model's energy offset fixes the rest) and isochoric heat
+    /// capacity `c_v⁰ = du⁰/dT` (J/(kg K)) at `t_k` (K, any value; `c_v⁰` is held outside
+    /// `ideal_t_lo_k .. ideal_t_hi_k`). `c_p⁰ = c_v⁰ + R`.
+    #[inline]
+    pub fn vapor_ideal<T: Real>(&self, t_k: T) -> (T, T) {
+        let (s_lo, s_hi) = (self.ideal_t_lo_k.sqrt(), self.ideal_t_hi_k.sqrt());
+        let inv_span = 1.0 / (s_hi - s_lo);
+        let tc = t_k.clamp_c(self.ideal_t_lo_k, self.ideal_t_hi_k);
+        let s = tc.sqrt();
+        let x = (s - s_lo) * (2.0 * inv_span) - 1.0;
+        let zero = T::splat(0.0);
+        let (mut q, mut dq) = (zero, zero);
+        for k in (0..NIDEAL).rev() {
+            dq = dq * x + q;
+            q = q * x + self.vapor_ideal[k];
+        }
+        let cv = q + dq * s * inv_span;
+        let rs = self.r_specific_j_per_kg_k();
+        ((tc * q + cv * (t_k - tc)) * rs, cv * rs)
+    }
+
+    /// Residual enthalpy `h − h⁰` (J/kg) of the vapour at `t_k` (K) and pressure `p_pa` (Pa):
+    /// `u_res + (Z − 1) R T` at the density of two Newton steps on `P = ρ R T Z` from the ideal
+    /// gas (within 1e-4 R T of the converged density's value from 1.5 T_sat to 600 K and 0.1 to
+    /// 2 MPa: `tests/ideal_gas.rs`). For a pressurant inlet, where a converged solve per
+    /// right-hand side would cost more than it buys.
+    pub fn vapor_h_res_at_tp<T: Real>(&self, t_k: T, p_pa: T) -> T {
+        let rt = t_k.max_c(1.0) * self.r_specific_j_per_kg_k();
+        let mut rho = p_pa.max_c(0.0) / rt;
+        for _ in 0..2 {
+            let (z, _, dz) = self.virial(t_k, rho);
+            let slope = (dz + 1.0).max_c(0.1);
+            rho = (rho - (rho * z - p_pa / rt) / slope).max(rho * 0.5);
+        }
+        let (z, u) = self.vapor_z_u_res(t_k, rho);
+        (u + z - 1.0) * rt
+    }
+
     /// `(Z, u_res/(R T))` of the vapour at `t_k` (K, clamped to ≥ 1 K) and density `rho` (kg/m³).
     pub fn vapor_z_u_res<T: Real>(&self, t_k: T, rho_kg_per_m3: T) -> (T, T) {
         let (z, u, _) = self.virial(t_k, rho_kg_per_m3);

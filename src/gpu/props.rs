@@ -95,10 +95,20 @@ gpu_struct! {
         pub h_l_max: f32,
         /// Vapour specific gas constant `R_u / M` (J/(kg K)).
         pub r_specific: f32,
-        /// Vapour ideal-gas `c_p` (J/(kg K)), for the kernels.
-        pub cp_vapor: f32,
-        /// Vapour ideal-gas `c_v` (J/(kg K)), for the kernels.
-        pub cv_vapor: f32,
+        /// Lower end of the vapour ideal-gas fit (K).
+        pub ideal_t_lo: f32,
+        /// Upper end of the vapour ideal-gas fit (K).
+        pub ideal_t_hi: f32,
+        /// `√T_lo` of the ideal-gas fit (√K).
+        pub ideal_s_lo: f32,
+        /// `1/(√T_hi − √T_lo)` of the ideal-gas fit (1/√K).
+        pub ideal_inv_span: f32,
+        /// Linearisation point of the ullage Newton start, the middle of the liquid range (K).
+        pub ideal_t_ref: f32,
+        /// `u⁰ + offset − c_v⁰ T` at `ideal_t_ref` (J/kg): the start's intercept.
+        pub ideal_u_ref: f32,
+        /// `c_v⁰` at `ideal_t_ref` (J/(kg K)): the start's slope.
+        pub ideal_cv_ref: f32,
         /// Vapour conductivity at `vapor_t_ref` (W/(m K)).
         pub k_vapor_ref: f32,
         /// Vapour conductivity power-law exponent.
@@ -137,6 +147,8 @@ gpu_struct! {
         pub ln_rho_v: [f32; 8],
         /// Vapour virial coefficients `c_kj`, k-major (`FluidProps::vapor_virial`).
         pub virial: [f32; 24],
+        /// Vapour ideal-gas polynomial `Q` (`FluidProps::vapor_ideal`).
+        pub ideal: [f32; 16],
     }
 }
 
@@ -147,6 +159,7 @@ impl GpuFluid {
         let t_mid = 0.5 * (f.t_min_k + f.t_max_k);
         let t_half = 0.5 * (f.t_max_k - f.t_min_k);
         let (t_mid_hi, t_mid_lo) = split(t_mid);
+        let (u_ref, cv_ref) = f.vapor_ideal(t_mid);
         GpuFluid {
             t_min_hi,
             t_min_lo,
@@ -170,8 +183,13 @@ impl GpuFluid {
             dh_l_hi: poly(&f.dh_l_sat, 1.0) as f32,
             h_l_max: f.h_l_j_per_kg(f.t_max_k) as f32,
             r_specific: f.r_specific_j_per_kg_k() as f32,
-            cp_vapor: f.cp_vapor_j_per_kg_k as f32,
-            cv_vapor: f.cv_vapor_j_per_kg_k as f32,
+            ideal_t_lo: f.ideal_t_lo_k as f32,
+            ideal_t_hi: f.ideal_t_hi_k as f32,
+            ideal_s_lo: f.ideal_t_lo_k.sqrt() as f32,
+            ideal_inv_span: (1.0 / (f.ideal_t_hi_k.sqrt() - f.ideal_t_lo_k.sqrt())) as f32,
+            ideal_t_ref: t_mid as f32,
+            ideal_u_ref: (u_ref + vapor_energy_offset_of(f) - cv_ref * t_mid) as f32,
+            ideal_cv_ref: cv_ref as f32,
             k_vapor_ref: f.k_vapor_ref_w_per_m_k as f32,
             k_vapor_exp: f.k_vapor_exp as f32,
             mu_vapor_ref: f.mu_vapor_ref_pa_s as f32,
@@ -191,6 +209,7 @@ impl GpuFluid {
             ln_mu_l: coefs(&f.ln_mu_l),
             ln_rho_v: coefs(&f.ln_rho_v),
             virial: f.vapor_virial.map(|c| c as f32),
+            ideal: f.vapor_ideal.map(|c| c as f32),
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::derive::{Derived, Drive};
 use super::flight::{self, G0};
-use super::params::{Fidelity, Params, PressurantGas};
+use super::params::{Fidelity, Params};
 use super::state::*;
 use super::thermal;
 use super::Group;
@@ -70,8 +70,9 @@ pub fn boundary_flows<T: Real>(
         let rg = HELIUM.r_specific_j_per_kg_k();
         let vapour = y_v.rsub(1.0);
         let r_mix = y_v * rv + vapour * rg;
-        let cp = y_v * f.cp_vapor_j_per_kg_k + vapour * HELIUM.cp_j_per_kg_k;
-        let cv = y_v * f.cv_vapor_j_per_kg_k + vapour * HELIUM.cv_j_per_kg_k;
+        let cv_v = f.vapor_ideal(x.t_ullage_k).1;
+        let cp = y_v * (cv_v + rv) + vapour * HELIUM.cp_j_per_kg_k;
+        let cv = y_v * cv_v + vapour * HELIUM.cv_j_per_kg_k;
         let back = flight::ambient_pressure(s[ALT]);
         let area: T = g.get(|p| p.relief.map_or(0.0, |r| r.flow_area_m2));
         let vent = thermal::orifice_flow(area, x.p_ullage_pa, back, x.t_ullage_k, r_mix, cp / cv);
@@ -202,21 +203,24 @@ pub fn boundary_ledger<T: Real>(
     ds[E_OUT] = e_out_w;
 }
 
-/// Pressurant enthalpy at the inlet temperature, J/kg: helium c_p,He T_in, or for autogenous
-/// pressurization the vapour's ideal-gas part c_p,v T_in + offset on the ullage's reference (so
-/// that the `E_PRESS` ledger closes the energy balance). The inlet's residual enthalpy is left
-/// out: for warm inlet gas it is small (GCH4 at 300 K, 250 kPa: −0.4 % of c_p T), at the coldest
-/// allowed inlet, T_sat(setpoint), a few per cent.
-pub fn pressurant_inlet_enthalpy<T: Real>(g: Group<'_>) -> T {
-    g.get(|p| {
-        p.pressurization.map_or(0.0, |ps| match ps.gas {
-            PressurantGas::Helium => HELIUM.cp_j_per_kg_k * ps.gas_temperature_k,
-            PressurantGas::Autogenous => {
-                let f = p.fluid.props();
-                f.cp_vapor_j_per_kg_k * ps.gas_temperature_k + vapor_energy_offset(p.fluid)
-            }
-        })
-    })
+/// Pressurant enthalpy at the inlet temperature, J/kg, entering at the ullage pressure
+/// `p_ullage_pa` (Pa): helium c_p,He T_in, or for autogenous pressurization the real-gas vapour
+/// u⁰(T_in) + R T_in + offset + h_res(T_in, P) on the ullage's reference (so that the `E_PRESS`
+/// ledger closes the energy balance; `h_res` from
+/// [`crate::fluids::FluidProps::vapor_h_res_at_tp`]).
+pub fn pressurant_inlet_enthalpy<T: Real>(g: Group<'_>, p_ullage_pa: T) -> T {
+    let t_in: T = g.get(|p| p.pressurization.map_or(0.0, |ps| ps.gas_temperature_k));
+    let helium = t_in * HELIUM.cp_j_per_kg_k;
+    let autogenous = pressurant_vapor_share::<T>(g).gt(c(0.0));
+    if !autogenous.any() {
+        return helium;
+    }
+    let fluid = g.shared().fluid;
+    let f = fluid.props();
+    let (u0, _) = f.vapor_ideal(t_in);
+    let h_res = f.vapor_h_res_at_tp(t_in, p_ullage_pa);
+    let vapour = u0 + t_in * f.r_specific_j_per_kg_k() + vapor_energy_offset(fluid) + h_res;
+    T::select(autogenous, vapour, helium)
 }
 
 /// Share of the pressurant flow that enters as propellant vapour (1 autogenous, 0 helium), per

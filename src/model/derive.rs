@@ -343,10 +343,11 @@ const ULLAGE_NEWTON_TOL: f64 = 1e-13;
 
 /// Ullage temperature from its energy `u_j` (J) with `m_v` kg of real-gas vapour at density
 /// `rho_v` (kg/m³) and `m_g` kg of ideal helium: the root of
-/// m_v (c_v,v T + e_0 + u_res(T, ρ_v)) + m_g c_v,He T = U (e_0: [`vapor_energy_offset`]), by
-/// Newton from the ideal-gas root until the step is below 1e-13 T (each lane stops moving on its
-/// own; near saturation at 2 MPa the ideal start is 20 K low and it takes six steps). Also
-/// returns the vapour's state there.
+/// m_v (u⁰(T) + e_0 + u_res(T, ρ_v)) + m_g c_v,He T = U (u⁰: the vapour's ideal-gas energy,
+/// [`crate::fluids::FluidProps::vapor_ideal`]; e_0: [`vapor_energy_offset`]), by Newton from the
+/// root of the ideal gas linearised at the middle of the liquid range, until the step is below
+/// 1e-13 T (each lane stops moving on its own; near saturation at 2 MPa the start is 20 K low and
+/// it takes six steps). Also returns the vapour's state there.
 pub fn ullage_temperature<T: Real>(
     fluid: crate::fluids::Fluid,
     m_v: T,
@@ -356,13 +357,16 @@ pub fn ullage_temperature<T: Real>(
 ) -> (T, crate::fluids::vapor::VaporState<T>) {
     let f = fluid.props();
     let off = vapor_energy_offset(fluid);
-    let heat_cap = m_v * f.cv_vapor_j_per_kg_k + m_g * HELIUM.cv_j_per_kg_k;
-    let mut t = (u_j - m_v * off) / heat_cap;
+    let t_r = 0.5 * (f.t_min_k + f.t_max_k);
+    let (u_r, cv_r) = f.vapor_ideal(t_r);
+    let cv_g = m_g * HELIUM.cv_j_per_kg_k;
+    let mut t = (u_j - m_v * (off + u_r - cv_r * t_r)) / (m_v * cv_r + cv_g);
     let mut done = T::Mask::splat(false);
     for _ in 0..ULLAGE_NEWTON_MAX {
         let v = f.vapor_state(t, rho_v);
-        let r = m_v * v.u_res_j_per_kg + heat_cap * t + m_v * off - u_j;
-        let step = r / (heat_cap + m_v * v.du_res_dt);
+        let (u0, cv0) = f.vapor_ideal(t);
+        let r = m_v * (u0 + off + v.u_res_j_per_kg) + cv_g * t - u_j;
+        let step = r / (m_v * (cv0 + v.du_res_dt) + cv_g);
         t = T::select(done, t, t - step);
         done = done | step.abs().le(t.abs() * ULLAGE_NEWTON_TOL) | step.is(f64::is_nan);
         if done.all() {

@@ -45,7 +45,7 @@ pub fn fluid_energy<T: Real>(g: Group<'_>, m_p: T, m_g: T, t: T) -> T {
     (m_p - m_v) * u_l + m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t
 }
 
-/// Saturated vapour at `t`: (ρ_v kg/m³, u_v J/kg, h_v J/kg). u_v = c_v T + offset + u_res(T, ρ_v)
+/// Saturated vapour at `t`: (ρ_v kg/m³, u_v J/kg, h_v J/kg). u_v = u⁰(T) + offset + u_res(T, ρ_v)
 /// with the offset of [`vapor_energy_offset`], so h_v − h_l = h_fg at the normal boiling
 /// point and, through the fits, within 1e-3 of h_fg along the whole saturation line.
 pub fn saturated_vapor<T: Real>(g: Group<'_>, t: T) -> (T, T, T) {
@@ -54,7 +54,7 @@ pub fn saturated_vapor<T: Real>(g: Group<'_>, t: T) -> (T, T, T) {
     let rho_v = f.rho_v_sat_kg_per_m3(t);
     let (z, u_res) = f.vapor_z_u_res(t, rho_v);
     let rt = t * f.r_specific_j_per_kg_k();
-    let u_v = t * f.cv_vapor_j_per_kg_k + vapor_energy_offset(fluid) + u_res * rt;
+    let u_v = f.vapor_ideal(t).0 + vapor_energy_offset(fluid) + u_res * rt;
     (rho_v, u_v, u_v + z * rt)
 }
 
@@ -153,12 +153,13 @@ pub fn rhs<T: Real>(
     let (a_wet, a_dry) = (a_tot * x.wetted_share, a_tot * dry_share);
     let rho = x.rho_bulk;
     let liq = super::nodes::liquid_props(g, t);
-    let gas = super::nodes::gas_props(g, s, x);
+    let cv_vapor = f.vapor_ideal(t).1;
+    let gas = super::nodes::gas_props(g, s, x, cv_vapor + f.r_specific_j_per_kg_k());
     let m_u = x.m_vapor_kg + s[M_G];
     let (h_wl, h_wu) = super::nodes::wall_coefficients(g, x, &liq, &gas, t, t);
     // The fluid's heat capacity is far larger than a wall node's: the wall side limits the step.
     let c_wall: T = g.get(Params::wall_heat_capacity_j_per_k);
-    let c_fluid = x.m_liquid_kg * liq.cp + m_u * f.cv_vapor_j_per_kg_k;
+    let c_fluid = x.m_liquid_kg * liq.cp + m_u * cv_vapor;
     let warming = g.get::<T>(|p| p.heat_leak_w) / c_wall;
     let exchange = |h: T, area: T, share: T, t_wall: T| {
         thermal::wall_exchange(h * area, dt, c_wall * share, c_fluid, t_wall - t, warming)
@@ -173,7 +174,7 @@ pub fn rhs<T: Real>(
     let (_, _, h_v) = saturated_vapor(g, t);
     let h_u = b.y_vapor * h_v + b.y_vapor.rsub(1.0) * HELIUM.cp_j_per_kg_k * t;
     let h_l = f.h_l_j_per_kg(t);
-    let h_press = boundary::pressurant_inlet_enthalpy(g);
+    let h_press = boundary::pressurant_inlet_enthalpy(g, x.p_ullage_pa);
     // Autogenous pressurant is propellant: it joins M_B (the equilibrium decides its phase).
     let press_v = b.press_kg_s * boundary::pressurant_vapor_share::<T>(g);
 

@@ -107,7 +107,13 @@ pub(super) fn liquid_props<T: Real>(g: Group<'_>, t: T) -> ConvectionProps<T> {
 
 /// Ullage-gas properties at the ullage temperature: mass-fraction-weighted vapour and helium
 /// transport properties (a mixing rule adequate for a convection estimate), ideal-gas β = 1/T.
-pub(super) fn gas_props<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> ConvectionProps<T> {
+/// `cp_vapor` is the vapour's ideal-gas `c_p⁰` at the ullage temperature, J/(kg K).
+pub(super) fn gas_props<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    x: &Derived<T>,
+    cp_vapor: T,
+) -> ConvectionProps<T> {
     let f = g.shared().fluid.props();
     let m = x.m_vapor_kg + s[M_G];
     let y = T::select(m.gt(c(0.0)), x.m_vapor_kg / m, c(1.0));
@@ -118,7 +124,7 @@ pub(super) fn gas_props<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> 
         k: y * k_v + he * k_g,
         mu: y * mu_v + he * mu_g,
         rho: m / x.v_ullage_m3,
-        cp: y * f.cp_vapor_j_per_kg_k + he * HELIUM.cp_j_per_kg_k,
+        cp: y * cp_vapor + he * HELIUM.cp_j_per_kg_k,
         beta: t.rdiv(1.0),
     }
 }
@@ -191,7 +197,11 @@ pub fn rhs<T: Real>(
     let rho_v = s[M_V] / x.v_ullage_m3;
     let vapor = f.vapor_state(t_u, rho_v);
     let rv = f.r_specific_j_per_kg_k();
-    let u_vap = t_u * f.cv_vapor_j_per_kg_k + off + vapor.u_res_j_per_kg;
+    let (u0, cv0) = f.vapor_ideal(t_u);
+    let u_vap = u0 + off + vapor.u_res_j_per_kg;
+    // Ullage heat capacity at constant volume: real-gas vapour and ideal helium.
+    let cv_g = HELIUM.cv_j_per_kg_k;
+    let heat_cap = s[M_V] * (vapor.du_res_dt + cv0) + s[M_G] * cv_g;
     let a_i = x.interface_area_m2;
     let tank = g.tank();
     let r_surf = tank.surface_radius_m(x.level_m).max_c(1.0e-3);
@@ -207,7 +217,7 @@ pub fn rhs<T: Real>(
         NodeFits::at(g, t_s, x.rho_layer),
     );
     let liq = bulk.convection(g);
-    let gas = gas_props(g, s, x);
+    let gas = gas_props(g, s, x, cv0 + rv);
     let (h_wl, h_wu) = wall_coefficients(g, x, &liq, &gas, t_b, t_u);
     // The wetted wall passes its heat into the liquid with a uniform flux; each liquid node takes
     // the share of the wetted band it touches (MODEL.md §4): the layer the band between the
@@ -217,7 +227,6 @@ pub fn rhs<T: Real>(
     // Once the bulk is merged into the layer the wetted wall feeds the layer alone.
     let bulk_gone = s[M_B].le(c(0.0));
     let c_bulk = T::select(bulk_gone, s[M_S], s[M_B]).max_c(1.0e-9) * liq.cp;
-    let c_gas = s[M_V] * f.cv_vapor_j_per_kg_k + s[M_G] * HELIUM.cv_j_per_kg_k;
     let warming = g.get::<T>(|p| p.heat_leak_w) / c_wall;
     let q_wl = thermal::wall_exchange(
         h_wl * a_wet,
@@ -239,7 +248,7 @@ pub fn rhs<T: Real>(
         h_wu * a_dry,
         dt,
         c_wall * dry_share,
-        c_gas,
+        heat_cap,
         x.t_wall_dry_k - t_u,
         warming,
     );
@@ -285,7 +294,7 @@ pub fn rhs<T: Real>(
     let h_vap_gas = u_vap + vapor.z * rv * t_u;
     let y = b.y_vapor;
     let h_u = y * h_vap_gas + y.rsub(1.0) * HELIUM.cp_j_per_kg_k * t_u;
-    let h_press = boundary::pressurant_inlet_enthalpy(g);
+    let h_press = boundary::pressurant_inlet_enthalpy(g, x.p_ullage_pa);
     // Autogenous pressurant is vapour: it enters M_V (in `tail`), helium enters M_G.
     let press_v = b.press_kg_s * boundary::pressurant_vapor_share::<T>(g);
     let pu = x.p_ullage_pa;
@@ -320,8 +329,6 @@ pub fn rhs<T: Real>(
     // d(P_sat(T_s) − P_v)/dt along those rates, by the chain rule through `derive_nodes`:
     // T_s from H_s/m_s; ρ_v = m_v/V_u; T_u from U_u = m_v u_v(T_u, ρ_v) + m_g c_v,He T_u;
     // P_v = P(T_u, ρ_v) of the real gas.
-    let (cv_v, cv_g) = (f.cv_vapor_j_per_kg_k, HELIUM.cv_j_per_kg_k);
-    let heat_cap = s[M_V] * (vapor.du_res_dt + cv_v) + s[M_G] * cv_g;
     let dpsat_dt = f.psat_and_slope(t_s).1;
     let dm_g = ds[M_G];
     let dp_rate = |r: [T; 5]| -> T {

@@ -72,7 +72,7 @@ pub fn lane<T: crate::lanes::Real>(s: &State<T>, i: usize) -> State {
 }
 
 /// Internal-energy reference of the real-gas vapour (MODEL.md §4, consistent references):
-/// u_v(T, ρ) = c_v,v T + offset + u_res(T, ρ) (`fluids::vapor`), the offset chosen so that the
+/// u_v(T, ρ) = u⁰(T) + offset + u_res(T, ρ) (`fluids::vapor`), the offset chosen so that the
 /// saturated vapour's enthalpy u_v + P_sat/ρ_v exceeds h_l by h_fg at the normal boiling point
 /// (through the fits it then does so within 1e-3 of h_fg along the whole saturation line). Fixed
 /// per fluid so that dispersed inputs never move a reference; computed once (it needs a T_sat
@@ -89,7 +89,7 @@ pub fn vapor_energy_offset_of(f: &FluidProps) -> f64 {
     let t = f.tsat_k(101_325.0);
     let rho_v = f.rho_v_sat_kg_per_m3(t);
     let h_v = f.h_l_j_per_kg(t) + f.h_fg_j_per_kg(t);
-    h_v - f.psat_pa(t) / rho_v - f.cv_vapor_j_per_kg_k * t - f.vapor_u_res_j_per_kg(t, rho_v)
+    h_v - f.psat_pa(t) / rho_v - f.vapor_ideal(t).0 - f.vapor_u_res_j_per_kg(t, rho_v)
 }
 
 /// Initial wetted fraction of the wall and the liquid level for the initial fill.
@@ -197,7 +197,7 @@ pub fn initial_state(p: &Params) -> State {
                 let v_s = (area * thickness).min(0.5 * v_l);
                 (rho_s * v_s, rho * (v_l - v_s))
             };
-            let u_v = f.cv_vapor_j_per_kg_k * t_u
+            let u_v = f.vapor_ideal(t_u).0
                 + vapor_energy_offset(p.fluid)
                 + f.vapor_u_res_j_per_kg(t_u, m_v / v_u);
             s[U_U] = m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t_u;

@@ -6,6 +6,8 @@ use cryoslosh::fluids::Fluid;
 use cryoslosh::model::state::vapor_energy_offset;
 use std::path::PathBuf;
 
+pub mod fixture;
+
 /// Every shipped campaign.
 pub const CAMPAIGNS: [&str; 6] = [
     "lh2_upper_stage",
@@ -41,7 +43,7 @@ pub fn validation_csv(name: &str) -> PathBuf {
 
 /// du/dT of the saturated two-phase mixture at temperature t, J/(kg·K), at fixed specific volume
 /// v (m³/kg): u(T) = u_l + x (u_v − u_l), x = (v − v_l)/(v_v − v_l), written from the property
-/// fits (u_l = h_l − P_sat/ρ_l, v_v = 1/ρ_v,sat, u_v = c_v T + offset + u_res) and differenced
+/// fits (u_l = h_l − P_sat/ρ_l, v_v = 1/ρ_v,sat, u_v = u⁰(T) + offset + u_res) and differenced
 /// over ±1 mK, independently of the model's Newton solve and state layout.
 pub fn mixture_du_dt(fluid: Fluid, v: f64, t: f64) -> f64 {
     let f = fluid.props();
@@ -49,9 +51,8 @@ pub fn mixture_du_dt(fluid: Fluid, v: f64, t: f64) -> f64 {
         let (vl, vv) = (1.0 / f.rho_l_kg_per_m3(t), 1.0 / f.rho_v_sat_kg_per_m3(t));
         let x = (v - vl) / (vv - vl);
         let ul = f.h_l_j_per_kg(t) - f.psat_pa(t) * vl;
-        let uv = f.cv_vapor_j_per_kg_k * t
-            + vapor_energy_offset(fluid)
-            + f.vapor_u_res_j_per_kg(t, 1.0 / vv);
+        let uv =
+            f.vapor_ideal(t).0 + vapor_energy_offset(fluid) + f.vapor_u_res_j_per_kg(t, 1.0 / vv);
         ul + x * (uv - ul)
     };
     let h = 1e-3;
