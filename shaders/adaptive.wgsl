@@ -86,6 +86,12 @@ fn dp_dense(hi: ptr<function, St>, theta: f32) -> St {
     return y;
 }
 
+/// Slot i of the dense output at theta (adaptive.rs: Dense::slot_at).
+fn dp_dense_slot(hi: ptr<function, St>, i: u32, theta: f32) -> f32 {
+    let u = 1.0 - theta;
+    return (*hi)[i] + theta * (R1[i] + u * (R2[i] + theta * (R3[i] + u * R4[i])));
+}
+
 /// The quantities whose extremes are observed between step ends (adaptive::observe_probe):
 /// pressure, −pressure, −cavitation margin, |slosh angle|, |slosh force|. The margin counts only
 /// while the engine draws: [`dp_drawing`] zeroes it otherwise.
@@ -409,7 +415,8 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
         let q_m = dp_drawing(dp_extremes(&s_m, ev_m), d_m.burning);
         let q_e = dp_drawing(q_end, d_m.burning);
         let q_0 = dp_drawing(r.q_last, d_m.burning);
-        var vertices = array<f32, 5>(-1.0, -1.0, -1.0, -1.0, -1.0);
+        var vertices = array<f32, 6>(-1.0, -1.0, -1.0, -1.0, -1.0, -1.0);
+        var vertex_of = array<u32, 6>(0u, 0u, 0u, 0u, 0u, 0u);
         var n_vertices = 0u;
         for (var j = 0u; j < 5u; j++) {
             if (q_m[j] > q_0[j] && q_m[j] > q_e[j]) {
@@ -420,8 +427,36 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
                 if (distinct) {
                     vertices[n_vertices] = v;
+                    vertex_of[n_vertices] = j;
                     n_vertices += 1u;
                 }
+            }
+        }
+        // The slosh displacement's extreme on the dense output alone (adaptive.rs: eight
+        // intervals, then the vertex through the largest interior sample).
+        var best = 0u;
+        var scan: array<f32, 9>;
+        for (var i = 0u; i <= 8u; i++) {
+            scan[i] = abs(dp_dense_slot(&hi_prev, Q1, theta_end * f32(i) / 8.0));
+            if (scan[i] > scan[best]) {
+                best = i;
+            }
+        }
+        if (best > 0u && best < 8u) {
+            let step = theta_end / 8.0;
+            let w = dp_vertex(
+                vec2<f32>(f32(best - 1u) * step, scan[best - 1u]),
+                vec2<f32>(f32(best) * step, scan[best]),
+                vec2<f32>(f32(best + 1u) * step, scan[best + 1u]),
+            );
+            var fresh = w > 0.0 && w < theta_end;
+            for (var m = 0u; m < n_vertices; m++) {
+                fresh = fresh && (vertex_of[m] != 3u || abs(vertices[m] - w) > 1.0e-3 * theta_end);
+            }
+            if (fresh) {
+                vertices[n_vertices] = w;
+                vertex_of[n_vertices] = 5u;
+                n_vertices += 1u;
             }
         }
         for (var m = 0u; m < n_vertices; m++) {

@@ -183,6 +183,13 @@ impl Dense {
         Dense { r }
     }
 
+    /// Slot `i` of the state at fraction `theta` of the step, as [`Dense::at`].
+    pub fn slot_at(&self, i: usize, theta: f64) -> f64 {
+        let r = &self.r;
+        let u = 1.0 - theta;
+        r[0][i] + theta * (r[1][i] + u * (r[2][i] + theta * (r[3][i] + u * r[4][i])))
+    }
+
     /// The state at fraction `theta` ∈ [0, 1] of the step (fourth-order accurate).
     pub fn at(&self, theta: f64) -> State {
         let r = &self.r;
