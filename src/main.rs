@@ -215,8 +215,8 @@ fn quiet_process_defaults() {
 struct Untrusted(String);
 
 /// Exit 3 when a finished run is not to be trusted.
-fn check_trust(report: &montecarlo::RunReport) -> anyhow::Result<()> {
-    match report.untrusted() {
+fn trust(untrusted: Option<String>) -> anyhow::Result<()> {
+    match untrusted {
         Some(why) => Err(Untrusted(why).into()),
         None => Ok(()),
     }
@@ -244,6 +244,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 )
             );
             out!("{}", simulate::plan::describe_step_plan(&c));
+            for (k, v) in c.variants.iter().enumerate() {
+                let role = if k == 0 { " (baseline)" } else { "" };
+                outln!("variant {}{role}: {}", v.name, v.describe());
+            }
             let screen = montecarlo::screen::screen(&c, c.seed, c.instances);
             out!(
                 "{}",
@@ -386,6 +390,22 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 force,
                 resume,
             };
+            if !c.variants.is_empty() {
+                let report = montecarlo::variants::run_variants(&c, &backend, &opts)?;
+                out!("{}", montecarlo::variants::summary_text(&report));
+                outln!(
+                    "wrote {d}/variants/{{{}}}/ and {d}/differences.parquet, run.json",
+                    report.names.join(","),
+                    d = opts.out_dir.display()
+                );
+                if with_report {
+                    for name in &report.names {
+                        let dir = montecarlo::variants::variant_dir(&opts.out_dir, name);
+                        write_report(&dir, None, true)?;
+                    }
+                }
+                return trust(report.untrusted());
+            }
             let report = montecarlo::run(&c, &backend, &opts)?;
             out!("{}", montecarlo::summary_text(&report));
             outln!(
@@ -401,7 +421,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             if with_report {
                 write_report(&opts.out_dir, None, true)?;
             }
-            check_trust(&report)
+            trust(report.untrusted())
         }
         Command::Init { path, force } => {
             if path.is_dir() {
@@ -441,10 +461,19 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             no_worst_cases,
         } => write_report(&dir, out, !no_worst_cases),
         Command::Merge { dirs, out, force } => {
+            if dirs
+                .first()
+                .is_some_and(|d| montecarlo::variants::is_variants_dir(d))
+            {
+                let report = montecarlo::variants::merge_variants(&dirs, &out, force)?;
+                out!("{}", montecarlo::variants::summary_text(&report));
+                outln!("merged {} shards into {}", dirs.len(), out.display());
+                return trust(report.untrusted());
+            }
             let report = montecarlo::merge(&dirs, &out, force)?;
             out!("{}", montecarlo::summary_text(&report));
             outln!("merged {} shards into {}", dirs.len(), out.display());
-            check_trust(&report)
+            trust(report.untrusted())
         }
     }
 }

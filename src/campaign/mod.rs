@@ -9,6 +9,7 @@ pub mod steps;
 mod table;
 pub mod template;
 mod validate;
+pub mod variants;
 
 pub use describe::describe;
 pub use describe::number;
@@ -45,6 +46,12 @@ pub enum CampaignError {
         value: String,
         allowed: String,
     },
+    #[error("variant {name}: {source}")]
+    Variant {
+        name: String,
+        #[source]
+        source: Box<CampaignError>,
+    },
     #[error("{file}: {key}: the {distribution} distribution of {input} is invalid: {message}")]
     Distribution {
         file: PathBuf,
@@ -62,6 +69,7 @@ impl CampaignError {
             CampaignError::Override { key, .. }
             | CampaignError::Invalid { key, .. }
             | CampaignError::Distribution { key, .. } => Some(key),
+            CampaignError::Variant { source, .. } => source.key(),
             _ => None,
         }
     }
@@ -137,6 +145,8 @@ pub struct Campaign {
     /// Record each instance's located events (`simulate::events`): set by `run --events` and
     /// `simulate`, not a campaign key (it changes what is written, not the results).
     pub record_events: bool,
+    /// The `[[variants]]` (empty: a single design); the first is the baseline.
+    pub variants: Vec<variants::Variant>,
 }
 
 impl Campaign {
@@ -181,6 +191,7 @@ impl Campaign {
         steps::check_fixed_step(&c, &raw)?;
         doc.remove("dispersions");
         doc.remove("statistics");
+        let variant_list = variants::extract(&mut doc, path)?;
         let checker = validate::Checker { file: path };
         if let Some(d) = &raw.dispersions {
             c.dispersions = dispersion::validate(
@@ -196,6 +207,9 @@ impl Campaign {
             raw.dispersions.as_ref().and_then(|d| d.confidence),
         )?;
         c.document = doc;
+        c.variants = variant_list;
+        // Every variant must be a valid campaign before anything runs.
+        c.variant_campaigns()?;
         Ok(c)
     }
 
@@ -270,6 +284,7 @@ impl Campaign {
         let mut c = validate::validate(&raw, &self.path, String::new())?;
         c.dispersions = dispersion::Dispersions::default();
         c.statistics = self.statistics.clone();
+        c.variants = Vec::new();
         c.record_events = self.record_events;
         Ok(c)
     }

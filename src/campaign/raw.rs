@@ -27,6 +27,8 @@ pub struct RawCampaign {
     pub phases: Vec<RawPhase>,
     pub dispersions: Option<super::dispersion::RawDispersions>,
     pub statistics: Option<super::statistics::RawStatistics>,
+    /// `[[variants]]`: read and checked by `variants::extract`.
+    pub variants: Option<Vec<toml::Table>>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize)]

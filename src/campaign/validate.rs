@@ -563,6 +563,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         statistics: super::statistics::StatisticsPlan::default(),
         document: toml::Table::new(),
         record_events: false,
+        variants: Vec::new(),
     })
 }
 

@@ -3,6 +3,7 @@
 //! exactly what the unsharded run writes.
 
 pub mod checkpoint;
+pub mod differences;
 pub mod events;
 pub mod histories;
 mod merge;
@@ -13,6 +14,7 @@ pub mod statistics;
 mod summary;
 pub mod table;
 pub mod until;
+pub mod variants;
 
 use crate::campaign::{Campaign, CampaignError};
 use crate::engine::Backend;

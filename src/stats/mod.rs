@@ -18,11 +18,16 @@
 
 mod beta;
 mod bootstrap;
+mod paired;
 mod quantile;
 mod sensitivity;
 mod summary;
 mod tolerance;
 
+pub use paired::{
+    finite_quantile, newcombe_paired, newcombe_unpaired, paired_differences, wilson, Estimate,
+    PairedDifferences, PairedTable,
+};
 pub use quantile::{is_constant, quantile_interval, quantile_interval_min_n};
 pub use sensitivity::{
     sobol_analysis, sobol_indices, spearman, spearman_interval, SobolAnalysis, SobolEstimate,

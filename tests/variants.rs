@@ -1,0 +1,328 @@
+//! Design variants in one campaign (issue 17): common random numbers (instance i has the same
+//! dispersed inputs under every variant), exact zeros for a variant equal to the baseline,
+//! paired intervals narrower than unpaired ones on the shipped trade, the coverage of Newcombe's
+//! paired interval, determinism across threads, shards and merge, and bad input.
+
+mod common;
+use common::campaign_path;
+use cryoslosh::campaign::Campaign;
+use cryoslosh::engine::{Backend, CpuEngine};
+use cryoslosh::montecarlo::table::{read_f64, read_u64};
+use cryoslosh::montecarlo::variants::{run_variants, variant_dir, VariantsReport};
+use cryoslosh::montecarlo::{RunOptions, Shard};
+use cryoslosh::stats::{newcombe_paired, newcombe_unpaired, PairedTable};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cryoslosh-var-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// The shipped trade, shortened: 30 s pad hold, 100 s first burn, 300 s coast, 40 s restart.
+fn short_trade(extra: &str) -> Campaign {
+    let text = std::fs::read_to_string(campaign_path("tank_design_trade")).unwrap() + extra;
+    let sets: Vec<String> = [
+        "phases.pad_hold.duration_s=30",
+        "phases.burn1.duration_s=100",
+        "phases.coast.duration_s=300",
+        "phases.restart.duration_s=40",
+    ]
+    .map(String::from)
+    .to_vec();
+    Campaign::from_text(&campaign_path("tank_design_trade"), &text, &sets).unwrap()
+}
+
+fn run(c: &Campaign, dir: &Path, n: u64, threads: usize) -> VariantsReport {
+    let opts = RunOptions {
+        out_dir: dir.to_path_buf(),
+        instances: n,
+        seed: c.seed,
+        shard: Shard::ALL,
+        chunk_size: 16,
+        progress: false,
+        histories: Vec::new(),
+        until: None,
+        force: false,
+        resume: false,
+    };
+    let backend = Backend::Cpu(CpuEngine::new(threads).unwrap());
+    run_variants(c, &backend, &opts).unwrap()
+}
+
+#[test]
+fn variants_share_inputs_and_pairing_narrows_the_intervals() {
+    let c = short_trade("");
+    let dir = scratch("trade");
+    let r = run(&c, &dir, 100, 2);
+    assert_eq!(
+        r.names,
+        [
+            "baseline",
+            "baffles",
+            "thick_insulation",
+            "baffles_insulation"
+        ]
+    );
+    // Instance i's dispersed inputs are the same bits under every variant.
+    let file = |name: &str| variant_dir(&dir, name).join("instances.parquet");
+    for input in &c.dispersions.inputs {
+        let base = read_f64(&file("baseline"), &input.column).unwrap();
+        assert_eq!(base.len(), 100);
+        for name in &r.names[1..] {
+            let v = read_f64(&file(name), &input.column).unwrap();
+            let same = base.iter().zip(&v).all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same, "{} differs under variant {name}", input.column);
+        }
+    }
+    for name in &r.names {
+        assert_eq!(
+            read_u64(&file(name), "instance").unwrap(),
+            (0..100).collect::<Vec<_>>()
+        );
+    }
+    // Paired against unpaired on the mean boil-off difference of the thicker insulation.
+    let row = r
+        .differences
+        .iter()
+        .find(|d| {
+            d.variant == "thick_insulation"
+                && d.quantity == "boiloff_kg"
+                && d.statistic == "mean_diff"
+        })
+        .unwrap();
+    let (paired, unpaired) = (
+        row.ci_high - row.ci_low,
+        row.unpaired_ci_high - row.unpaired_ci_low,
+    );
+    println!(
+        "thick_insulation − baseline, mean boil-off: {:+.5} kg, paired [{:.5}, {:.5}] (width {paired:.5}), unpaired [{:.5}, {:.5}] (width {unpaired:.5})",
+        row.value, row.ci_low, row.ci_high, row.unpaired_ci_low, row.unpaired_ci_high
+    );
+    assert!(
+        paired > 0.0 && paired < 0.5 * unpaired,
+        "{paired} vs {unpaired}"
+    );
+    // Never a NaN: missing values are nulls only where nothing was counted.
+    for d in &r.differences {
+        assert!(d.n > 0 && d.value.is_finite(), "{d:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_variant_equal_to_the_baseline_differs_by_exactly_zero() {
+    // The same campaign once more, under a name and with the baseline's own value set.
+    let c = short_trade(
+        "\n[[variants]]\nname = \"same\"\n\"slosh.baffle_count\" = 0\n\"tank.heat_leak_w\" = 150.0\n",
+    );
+    let dir = scratch("same");
+    let mut c = c;
+    c.variants = vec![c.variants[0].clone(), c.variants[4].clone()];
+    let r = run(&c, &dir, 24, 1);
+    let rows: Vec<_> = r
+        .differences
+        .iter()
+        .filter(|d| d.variant == "same")
+        .collect();
+    assert!(!rows.is_empty());
+    for d in rows {
+        assert_eq!(d.value, 0.0, "{d:?}");
+        if !d.statistic.starts_with("prob_") {
+            assert_eq!((d.ci_low, d.ci_high), (0.0, 0.0), "{d:?}");
+        } else {
+            assert!(d.ci_low <= 0.0 && d.ci_high >= 0.0, "{d:?}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn threads_shards_and_merge_give_the_same_bytes() {
+    let c = short_trade("");
+    let mut c = c;
+    c.variants.truncate(2);
+    let whole = scratch("whole");
+    run(&c, &whole, 12, 1);
+    let text = c.text.clone();
+    let campaign = scratch("campaign.toml");
+    std::fs::write(&campaign, &text).unwrap();
+    // The same campaign through the CLI, in two shards on two threads, merged.
+    let shards: Vec<PathBuf> = (0..2).map(|i| scratch(&format!("shard{i}"))).collect();
+    for (i, s) in shards.iter().enumerate() {
+        let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+            .args([
+                "run",
+                campaign.to_str().unwrap(),
+                "--instances",
+                "12",
+                "--threads",
+                "2",
+            ])
+            .args(["--shard", &format!("{i}/2"), "--out", s.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let merged = scratch("merged");
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .arg("merge")
+        .args(&shards)
+        .args(["--out", merged.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = |d: &Path, f: &str| std::fs::read(d.join(f)).unwrap();
+    // The library run used the campaign's path; the CLI's file another: compare what depends
+    // on the rows and the seed.
+    for name in ["baseline", "baffles"] {
+        let (a, b) = (variant_dir(&whole, name), variant_dir(&merged, name));
+        for col in [
+            "boiloff_kg",
+            "peak_slosh_force_n",
+            "min_cavitation_margin_m",
+        ] {
+            let (x, y) = (
+                read_f64(&a.join("instances.parquet"), col).unwrap(),
+                read_f64(&b.join("instances.parquet"), col).unwrap(),
+            );
+            assert!(
+                x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()),
+                "{name} {col}"
+            );
+        }
+    }
+    let diff = |d: &Path| read_f64(&d.join("differences.parquet"), "ci_low").unwrap();
+    let (x, y) = (diff(&whole), diff(&merged));
+    assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()));
+    // An unsharded CLI run on one thread writes the merged bytes.
+    let one = scratch("one");
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args([
+            "run",
+            campaign.to_str().unwrap(),
+            "--instances",
+            "12",
+            "--threads",
+            "1",
+        ])
+        .args(["--out", one.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        bytes(&one, "differences.parquet"),
+        bytes(&merged, "differences.parquet")
+    );
+    assert_eq!(
+        bytes(&variant_dir(&one, "baffles"), "instances.parquet"),
+        bytes(&variant_dir(&merged, "baffles"), "instances.parquet")
+    );
+    for d in shards.iter().chain([&whole, &merged, &one, &campaign]) {
+        let _ = std::fs::remove_dir_all(d);
+        let _ = std::fs::remove_file(d);
+    }
+}
+
+/// A campaign file with `extra` appended to the shipped trade; `check` on it must exit 2 and
+/// name the file, the key path and the value.
+fn rejects(extra: &str, needles: &[&str]) {
+    let text = std::fs::read_to_string(campaign_path("tank_design_trade")).unwrap();
+    let path = scratch(&format!("bad{}.toml", needles[0].len() + extra.len()));
+    std::fs::write(&path, text + extra).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args(["check", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{extra}: {err}");
+    assert!(
+        err.contains(path.file_name().unwrap().to_str().unwrap()),
+        "{err}"
+    );
+    for n in needles {
+        assert!(
+            err.contains(n),
+            "{extra}: the message does not name {n}: {err}"
+        );
+    }
+    assert!(!err.contains("panicked"), "{err}");
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn bad_variants_exit_2_naming_file_key_and_value() {
+    rejects(
+        "\n[[variants]]\nname = \"bad\"\n\"tank.radius_m\" = -1.0\n",
+        &["variant bad", "tank.radius_m", "-1"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"hot\"\n\"ullage.temperature_k\" = 40.0\n",
+        &[
+            "variants.hot.ullage.temperature_k",
+            "40",
+            "dispersions.inputs.0",
+        ],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"seeded\"\n\"campaign.seed\" = 3\n",
+        &["variants.seeded.campaign.seed", "3"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"baffles\"\n",
+        &["variants.4.name", "baffles"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"typo\"\n\"slosh.bafle_count\" = 2\n",
+        &["variant typo", "bafle_count"],
+    );
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014), for the synthetic replications.
+struct Rng(u64);
+impl Rng {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[test]
+fn newcombe_paired_interval_covers_at_the_nominal_rate() {
+    // Paired events with P(both) 0.15, P(first only) 0.15, P(second only) 0.05, P(neither) 0.65:
+    // p₁ = 0.30, p₂ = 0.20, true difference 0.10, positively correlated. 2000 replications of
+    // n = 150 pairs; the coverage must lie within 3 binomial standard errors of 95 %.
+    let (reps, n, truth) = (2000, 150, 0.10);
+    let mut rng = Rng(20_261_130);
+    let (mut covered, mut paired_width, mut unpaired_width) = (0u32, 0.0, 0.0);
+    for _ in 0..reps {
+        let mut t = PairedTable::default();
+        for _ in 0..n {
+            let u = rng.uniform();
+            match u {
+                u if u < 0.15 => t.both += 1,
+                u if u < 0.30 => t.only_first += 1,
+                u if u < 0.35 => t.only_second += 1,
+                _ => t.neither += 1,
+            }
+        }
+        let (lo, hi) = newcombe_paired(&t, 0.95);
+        covered += u32::from(lo <= truth && truth <= hi);
+        paired_width += hi - lo;
+        let (ul, uh) = newcombe_unpaired(t.both + t.only_first, n, t.both + t.only_second, n, 0.95);
+        unpaired_width += uh - ul;
+    }
+    let coverage = f64::from(covered) / f64::from(reps);
+    let tolerance = 3.0 * (0.95f64 * 0.05 / f64::from(reps)).sqrt();
+    println!(
+        "Newcombe paired coverage {coverage:.4} (95 % ± {tolerance:.4}); mean width paired {:.4}, unpaired {:.4}",
+        paired_width / f64::from(reps),
+        unpaired_width / f64::from(reps)
+    );
+    assert!((coverage - 0.95).abs() <= tolerance, "coverage {coverage}");
+    assert!(paired_width < unpaired_width);
+}
