@@ -183,7 +183,7 @@ fn absorb(hi: ptr<function, St>, lo: ptr<function, St>, dst: u32, src: u32) {
 fn merge_empty_bulk(hi: ptr<function, St>, lo: ptr<function, St>) -> bool {
     let m_b = (*hi)[M_B] + (*lo)[M_B];
     let m_s = (*hi)[M_S] + (*lo)[M_S];
-    if (P.fidelity == FID_HOMOGENEOUS || m_b <= 0.0 || m_b > BULK_MERGE_FRACTION * (m_b + m_s)) {
+    if (P.fidelity == FID_HOMOGENEOUS || m_b == 0.0 || m_b > BULK_MERGE_FRACTION * (m_b + m_s)) {
         return false;
     }
     absorb(hi, lo, M_S, M_B);
@@ -220,7 +220,9 @@ fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: 
         let empty = P.press_bottle_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
         if (press1 >= empty) {
             (*r).exhausted = 1u;
-            (*r).exhausted_time_s = t0 + crossing(press0, press1, empty) * (t1 - t0);
+            // Already empty at the step start (a 0 kg supply): exhausted there.
+            let th = select(crossing(press0, press1, empty), 0.0, press0 >= empty);
+            (*r).exhausted_time_s = t0 + th * (t1 - t0);
         }
     }
     let residual = (*r).m_liquid0_kg * DEPLETION_RESIDUAL_FRACTION;

@@ -482,3 +482,19 @@ fn a_full_stdout_exits_1_without_a_panic() {
     }
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// `--set pressurization.gas="helium"` (quoted, as in the file) kept its quotes and was refused
+/// ("\"helium\"" is not helium | autogenous); TOML literals now parse as in the file.
+#[test]
+fn set_takes_toml_literals_as_written_in_the_file() {
+    let path = campaign_path("methalox_autogenous");
+    let path = path.to_str().unwrap();
+    for value in ["\"helium\"", "'helium'", "helium"] {
+        let set = format!("pressurization.gas={value}");
+        let o = cryoslosh(&["check", path, "--set", &set]);
+        assert!(o.status.success(), "{set}: {}", stderr(&o));
+    }
+    let o = cryoslosh(&["check", path, "--set", "pressurization.gas=\"neon\""]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("pressurization.gas"), "{}", stderr(&o));
+}

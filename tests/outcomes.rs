@@ -147,3 +147,41 @@ fn boiling_dry_in_a_coast_is_depletion() {
         assert!(q.boiloff_kg.is_finite());
     }
 }
+
+/// The methalox stage at 2 % fill drains ~3 kg per 0.05 s step, more than the bulk's fade share
+/// (1e-4 of the liquid): the step drew the bulk to −0.115 kg and the instance "diverged: bulk mass
+/// negative" instead of merging the bulk into the layer and running dry as an outcome.
+#[test]
+fn a_step_that_overdraws_the_bulk_merges_it_and_the_tank_runs_dry() {
+    for level in ["lumped", "two_mode"] {
+        for integrator in ["rk4", "dopri5"] {
+            let c = load(
+                "methalox_autogenous",
+                &[
+                    "propellant.fill_fraction=0.02",
+                    &format!("campaign.fidelity={level}"),
+                    &format!("campaign.integrator={integrator}"),
+                ],
+            );
+            let q = simulate(&c, &c.params, None);
+            assert!(!q.diverged, "{level}/{integrator}: {:?}", q.diverged_reason);
+            assert!(q.depleted, "{level}/{integrator}: not depleted");
+            assert!(
+                q.mass_error_rel < 1e-12 && q.energy_error_rel < 1e-12,
+                "{level}/{integrator}: closure {} {}",
+                q.mass_error_rel,
+                q.energy_error_rel
+            );
+        }
+    }
+}
+
+/// A 0 kg supply was reported exhausted at the end of the first step (0.5 s into the mission),
+/// not where it was already empty: the mission's start.
+#[test]
+fn an_empty_supply_is_exhausted_at_the_start() {
+    let c = load("methalox_autogenous", &["pressurization.bottle_mass_kg=0"]);
+    let q = simulate(&c, &c.params, None);
+    assert!(q.pressurant_exhausted);
+    assert_eq!(q.pressurant_exhausted_time_s, Some(0.0));
+}

@@ -357,7 +357,9 @@ fn one_line(s: &str) -> String {
         .join(" ")
 }
 
-/// Parse a `--set` value: integer, float, boolean, else a string.
+/// Parse a `--set` value: integer, float, boolean, a TOML literal written as in the file (a
+/// quoted string `"helium"`, an array `[1, 2]`, an inline table), else the text as a bare string
+/// (`pressurization.gas=helium`). A quoted value used to keep its quotes and fail validation.
 fn parse_value(v: &str) -> toml::Value {
     if let Ok(i) = v.parse::<i64>() {
         toml::Value::Integer(i)
@@ -365,6 +367,13 @@ fn parse_value(v: &str) -> toml::Value {
         toml::Value::Float(x)
     } else if let Ok(b) = v.parse::<bool>() {
         toml::Value::Boolean(b)
+    } else if let Some(literal) = v
+        .starts_with(['"', '\'', '[', '{'])
+        .then(|| toml::from_str::<toml::Table>(&format!("v = {v}")).ok())
+        .flatten()
+        .and_then(|mut t| t.remove("v"))
+    {
+        literal
     } else {
         toml::Value::String(v.to_string())
     }

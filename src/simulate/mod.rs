@@ -491,7 +491,13 @@ impl<'a> LaneRun<'a> {
         if let Some(pr) = p.pressurization.filter(|_| !q.pressurant_exhausted) {
             let empty = pr.bottle_mass_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
             if s[PRESS_IN] >= empty {
-                let th = crossing(self.last_state[PRESS_IN], s[PRESS_IN], empty);
+                // Already empty at the step start (a 0 kg supply): exhausted there, not a
+                // step later (it was reported at the first step's end, 0.5 s into a mission).
+                let th = if self.last_state[PRESS_IN] >= empty {
+                    0.0
+                } else {
+                    crossing(self.last_state[PRESS_IN], s[PRESS_IN], empty)
+                };
                 let t = t0 + th * (t1 - t0);
                 q.pressurant_exhausted = true;
                 q.pressurant_exhausted_time_s = Some(t);
