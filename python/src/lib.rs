@@ -18,6 +18,13 @@ use std::path::{Path, PathBuf};
 /// when the statistics cannot be signed (CLI exit code 3), why.
 type Results<'py> = (Bound<'py, PyAny>, Bound<'py, PyAny>, String, Option<String>);
 
+/// What `simulate` hands back: the history, the sampled inputs and the summary text.
+type Simulated<'py> = (Bound<'py, PyAny>, Vec<(String, f64)>, String);
+
+/// What `replay` hands back: the history (none for a rejected instance) and the differing
+/// columns as (name, file value, replayed value).
+type Replayed<'py> = (Option<Bound<'py, PyAny>>, Vec<(String, f64, f64)>);
+
 /// The three files of a results directory, decoded without the GIL.
 struct Read {
     instances: tables::Decoded,
@@ -36,8 +43,14 @@ fn read_dir(dir: &Path) -> Result<Read, String> {
 
 /// Failures of a call made without the GIL, turned into exceptions once it is held again.
 enum Failure {
-    Runner(RunnerError),
+    Runner(Box<RunnerError>),
     Io(String),
+}
+
+impl From<RunnerError> for Failure {
+    fn from(e: RunnerError) -> Failure {
+        Failure::Runner(Box::new(e))
+    }
 }
 
 impl Failure {
@@ -98,7 +111,7 @@ fn run<'py>(
         ..RunArgs::default()
     };
     let done = py.detach(|| -> Result<(Read, Option<String>), Failure> {
-        let finished = runner::run(&args).map_err(Failure::Runner)?;
+        let finished = runner::run(&args).map_err(Failure::from)?;
         let read = read_dir(&args.out).map_err(Failure::Io)?;
         Ok((read, finished.report.untrusted()))
     });
@@ -118,7 +131,7 @@ fn merge<'py>(
 ) -> PyResult<Results<'py>> {
     let done = py.detach(|| -> Result<(Read, Option<String>), Failure> {
         let report = montecarlo::merge(&dirs, &out, force)
-            .map_err(|e| Failure::Runner(RunnerError::Run(e)))?;
+            .map_err(|e| Failure::from(RunnerError::Run(e)))?;
         let read = read_dir(&out).map_err(Failure::Io)?;
         Ok((read, report.untrusted()))
     });
@@ -131,8 +144,8 @@ fn merge<'py>(
 #[pyo3(signature = (campaign, sets=Vec::new()))]
 fn check(py: Python<'_>, campaign: PathBuf, sets: Vec<String>) -> PyResult<String> {
     let checked = py
-        .detach(|| runner::check(&campaign, &sets))
-        .map_err(|e| errors::to_py(py, &e))?;
+        .detach(|| runner::check(&campaign, &sets).map_err(Failure::from))
+        .map_err(|f| f.into_py(py))?;
     match checked.error {
         Some(e) => Err(errors::to_py(py, &e)),
         None => Ok(checked.text),
@@ -148,18 +161,17 @@ fn simulate<'py>(
     campaign: PathBuf,
     instance: Option<u64>,
     sets: Vec<String>,
-) -> PyResult<(Bound<'py, PyAny>, Vec<(String, f64)>, String)> {
+) -> PyResult<Simulated<'py>> {
     let done = py.detach(|| -> Result<_, Failure> {
         let nominal = Campaign::load(&campaign, &sets)
-            .map_err(|e| Failure::Runner(RunnerError::Campaign(e)))?;
+            .map_err(|e| Failure::from(RunnerError::Campaign(e)))?;
         let (mut c, label, inputs) = match instance {
             None => (nominal, "nominal".to_string(), Vec::new()),
             Some(i) => {
-                let values =
-                    runner::instance_inputs(&nominal, &sets, i).map_err(Failure::Runner)?;
+                let values = runner::instance_inputs(&nominal, &sets, i).map_err(Failure::from)?;
                 let keys = nominal.dispersions.inputs.iter().map(|d| d.key.clone());
                 let inputs: Vec<(String, f64)> = keys.zip(values.iter().copied()).collect();
-                let c = runner::instance_campaign(&nominal, &values).map_err(Failure::Runner)?;
+                let c = runner::instance_campaign(&nominal, &values).map_err(Failure::from)?;
                 (c, i.to_string(), inputs)
             }
         };
@@ -176,18 +188,14 @@ fn simulate<'py>(
 /// `cryoslosh simulate --run DIR --instance I`: the instance's history (`None` for a rejected
 /// instance) and the columns where its row of `DIR/instances.parquet` differs from the replay.
 #[pyfunction]
-fn replay<'py>(
-    py: Python<'py>,
-    dir: PathBuf,
-    instance: u64,
-) -> PyResult<(Option<Bound<'py, PyAny>>, Vec<(String, f64, f64)>)> {
+fn replay<'py>(py: Python<'py>, dir: PathBuf, instance: u64) -> PyResult<Replayed<'py>> {
     let done = py.detach(|| -> Result<_, Failure> {
         let mut h = History::default();
         let (run, record) = montecarlo::replay::replay(&dir, instance, Some(&mut h))
-            .map_err(|e| Failure::Runner(RunnerError::Run(e)))?;
+            .map_err(|e| Failure::from(RunnerError::Run(e)))?;
         let c = &run.campaign;
         let diffs = montecarlo::replay::compare_row(&dir, c, &record)
-            .map_err(|e| Failure::Runner(RunnerError::Run(e)))?;
+            .map_err(|e| Failure::from(RunnerError::Run(e)))?;
         let table = if record.rejected {
             None
         } else {
