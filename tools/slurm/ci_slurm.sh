@@ -16,8 +16,8 @@ fail() {
     exit 1
 }
 
-DEBIAN_FRONTEND=noninteractive apt-get install -y -qq slurm-wlm munge >/dev/null \
-    || fail "cannot install slurm-wlm and munge with apt-get"
+DEBIAN_FRONTEND=noninteractive apt-get install -y -qq slurm-wlm munge procps >/dev/null \
+    || fail "cannot install slurm-wlm, munge and procps (pgrep) with apt-get"
 
 # munge: a key, its directories, the daemon as the munge user.
 install -d -o munge -g munge -m 0700 /etc/munge /var/lib/munge /var/log/munge
