@@ -16,6 +16,7 @@ pub mod model;
 pub mod montecarlo;
 pub mod output;
 pub mod report;
+pub mod runner;
 pub mod sampling;
 pub mod simulate;
 pub mod stats;

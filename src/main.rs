@@ -5,11 +5,10 @@
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cryoslosh::campaign::{Campaign, CampaignError};
-use cryoslosh::engine::{Backend, CpuEngine};
-use cryoslosh::gpu::context::{self, GpuError};
-use cryoslosh::gpu::engine::GpuEngine;
-use cryoslosh::montecarlo::{self, RunError, RunOptions, Shard};
+use cryoslosh::gpu::context;
+use cryoslosh::montecarlo::{self, RunError};
 use cryoslosh::report::{self, ReportError, ReportOptions};
+use cryoslosh::runner::{self, RunnerError};
 use cryoslosh::simulate::{self, History};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -184,6 +183,8 @@ fn main() -> ExitCode {
                 || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<RunError>()
                     .is_some_and(RunError::is_bad_input)
+                || e.downcast_ref::<RunnerError>()
+                    .is_some_and(RunnerError::is_bad_input)
                 || e.downcast_ref::<ReportError>()
                     .is_some_and(ReportError::is_bad_input);
             if bad_input {
@@ -230,35 +231,10 @@ struct BadInput(String);
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Check { campaign, set } => {
-            let c = Campaign::load(&campaign, &set)?;
-            montecarlo::check_statistics(&c)?;
-            if let Err(e) = c.check_overrides_not_dispersed(&set) {
-                outln!("note: the nominal below uses the override, but `run` refuses it: {e}");
-            }
-            out!("{}", cryoslosh::campaign::describe(&c));
-            out!(
-                "{}",
-                cryoslosh::campaign::statistics::describe(
-                    &c.statistics,
-                    c.dispersions.group_size()
-                )
-            );
-            out!("{}", simulate::plan::describe_step_plan(&c));
-            for (k, v) in c.variants.iter().enumerate() {
-                let role = if k == 0 { " (baseline)" } else { "" };
-                outln!("variant {}{role}: {}", v.name, v.describe());
-            }
-            let screen = montecarlo::screen::screen(&c, c.seed, c.instances);
-            out!(
-                "{}",
-                montecarlo::screen::describe(&screen, c.statistics.max_rejected_fraction)
-            );
-            match screen.median_rejected {
-                Some((key, why)) => Err(BadInput(format!(
-                    "{}: the dispersions are centred outside the allowed range of {key}: {why}",
-                    campaign.display()
-                ))
-                .into()),
+            let checked = runner::check(&campaign, &set)?;
+            out!("{}", checked.text);
+            match checked.error {
+                Some(e) => Err(e.into()),
                 None => Ok(()),
             }
         }
@@ -282,30 +258,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             check_history_out(&out, &nominal.input_files())?;
             let (c, label) = match instance {
                 None => (nominal, "nominal".to_string()),
-                Some(i) if i >= nominal.instances => {
-                    return Err(BadInput(format!(
-                        "--instance {i}: the campaign has {} instances (campaign.instances)",
-                        nominal.instances
-                    ))
-                    .into())
-                }
                 Some(i) => {
-                    nominal.check_overrides_not_dispersed(&set)?;
-                    let d = &nominal.dispersions;
-                    let values =
-                        montecarlo::plan::sample_inputs(d, nominal.seed, nominal.instances, i);
+                    let values = runner::instance_inputs(&nominal, &set, i)?;
                     outln!(
                         "instance {i} of campaign.instances = {}, seed {} (to replay a run made \
                          with other --instances or --seed: simulate --run DIR --instance {i})",
                         nominal.instances,
                         nominal.seed
                     );
-                    for (input, v) in d.inputs.iter().zip(&values) {
+                    for (input, v) in nominal.dispersions.inputs.iter().zip(&values) {
                         outln!("{} = {v}", input.key);
                     }
-                    let mut c = nominal.instance(&values)?;
-                    c.text = nominal.text.clone();
-                    (c, i.to_string())
+                    (runner::instance_campaign(&nominal, &values)?, i.to_string())
                 }
             };
             let mut h = History::default();
@@ -350,48 +314,27 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             events,
             report: with_report,
         } => {
-            let mut c = Campaign::load(&campaign, &set)?;
-            c.record_events = events;
-            let histories = match histories {
-                None => Vec::new(),
-                Some(spec) => montecarlo::histories::parse(&spec).map_err(BadInput)?,
-            };
-            c.check_overrides_not_dispersed(&set)?;
-            let shard = match shard {
-                None => Shard::ALL,
-                Some(s) => Shard::parse(&s).ok_or_else(|| {
-                    BadInput(format!(
-                        "--shard {s}: expected I/N with 0 ≤ I < N, e.g. 0/4"
-                    ))
-                })?,
-            };
-            let backend = select_backend(&backend, threads)?;
-            let until = match until {
-                None => None,
-                Some(spec) => {
-                    Some(cryoslosh::campaign::statistics::parse_until(&spec).map_err(BadInput)?)
-                }
-            };
-            let target_cap = c.statistics.target.as_ref().and_then(|t| t.max_instances);
-            let opts = RunOptions {
-                out_dir: out,
-                instances: instances
-                    .or(if until.is_none() { target_cap } else { None })
-                    .unwrap_or(c.instances),
-                seed: seed.unwrap_or(c.seed),
+            let args = runner::RunArgs {
+                campaign,
+                out,
+                instances,
+                seed,
+                backend,
+                threads,
                 shard,
-                chunk_size: chunk_size.unwrap_or(match backend {
-                    Backend::Cpu(_) => 16_384,
-                    Backend::Gpu(_) => 262_144,
-                }),
-                progress: true,
+                chunk_size,
+                set,
+                force,
                 histories,
                 until,
-                force,
                 resume,
+                events,
+                progress: true,
             };
-            if !c.variants.is_empty() {
-                let report = montecarlo::variants::run_variants(&c, &backend, &opts)?;
+            let prepared = runner::prepare(&args)?;
+            if !prepared.campaign.variants.is_empty() {
+                let (c, opts) = (&prepared.campaign, &prepared.options);
+                let report = montecarlo::variants::run_variants(c, &prepared.backend, opts)?;
                 out!("{}", montecarlo::variants::summary_text(&report));
                 outln!(
                     "wrote {d}/variants/{{{}}}/ and {d}/differences.parquet, run.json",
@@ -406,7 +349,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 }
                 return trust(report.untrusted());
             }
-            let report = montecarlo::run(&c, &backend, &opts)?;
+            let runner::Finished {
+                campaign: c,
+                options: opts,
+                report,
+            } = runner::execute(prepared)?;
             out!("{}", montecarlo::summary_text(&report));
             outln!(
                 "wrote {}/{{instances,statistics{}}}.parquet and run.json{}",
@@ -501,10 +448,6 @@ fn write_report(
     Ok(())
 }
 
-/// Most worker threads `--threads` accepts (100000 used to spawn ~16000 threads and stall the
-/// machine).
-const MAX_THREADS: usize = 1024;
-
 /// A history `--out` may not be one of the command's inputs (the campaign, an excitation table),
 /// nor anything but a regular file (a FIFO, device or symlink there would be replaced).
 fn check_history_out(out: &std::path::Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
@@ -590,30 +533,4 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
         list.join("; ")
     );
     Ok(())
-}
-
-/// The engine for `--backend`: `gpu` opens any adapter (software included) or fails with exit
-/// code 2; `auto` takes a hardware GPU when one opens, else the CPU. Both integrate with either
-/// integrator.
-fn select_backend(name: &str, threads: usize) -> anyhow::Result<Backend> {
-    if threads > MAX_THREADS {
-        return Err(BadInput(format!(
-            "--threads {threads}: at most {MAX_THREADS} (0 takes one per core)"
-        ))
-        .into());
-    }
-    let gpu = |hardware_only: bool| context::open(hardware_only).and_then(GpuEngine::new);
-    match name {
-        "cpu" => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
-        "gpu" => match gpu(false) {
-            Ok(e) => Ok(Backend::Gpu(Box::new(e))),
-            Err(e @ GpuError::NoAdapter) => Err(BadInput(format!("--backend gpu: {e}")).into()),
-            Err(e) => Err(e.into()),
-        },
-        "auto" => match gpu(true) {
-            Ok(e) => Ok(Backend::Gpu(Box::new(e))),
-            Err(_) => Ok(Backend::Cpu(CpuEngine::new(threads)?)),
-        },
-        other => Err(BadInput(format!("--backend {other}: expected cpu, gpu or auto")).into()),
-    }
 }
