@@ -249,12 +249,15 @@ fn fl_vapor_ideal(t: f32) -> vec2<f32> {
 }
 
 // Residual enthalpy h - h0 (J/kg) of the vapour at (t, p) (FluidProps::vapor_h_res_at_tp): at the
-// density of one fixed-point step from the ideal gas.
+// density of two Newton steps on P = rho R T Z from the ideal gas (written out, no loop).
 fn fl_vapor_h_res_at_tp(t: f32, p: f32) -> f32 {
     let rt = max(t, 1.0) * fl_r_specific();
     let rho0 = max(p, 0.0) / rt;
-    let z0 = fl_vapor_state(t, rho0).z;
-    let v = fl_vapor_state(t, rho0 / z0);
+    let v0 = fl_vapor_state(t, rho0);
+    let rho1 = max(rho0 - (v0.p - p) / max(v0.dp_drho, 0.1 * rt), 0.5 * rho0);
+    let v1 = fl_vapor_state(t, rho1);
+    let rho2 = max(rho1 - (v1.p - p) / max(v1.dp_drho, 0.1 * rt), 0.5 * rho1);
+    let v = fl_vapor_state(t, rho2);
     return v.u_res + (v.z - 1.0) * rt;
 }
 

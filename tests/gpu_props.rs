@@ -48,7 +48,7 @@ type FluidFn = fn(&FluidProps, f64) -> f64;
 type TankFn = fn(&Tank, f64) -> f64;
 
 /// WGSL call (argument `a`), input grid, Rust reference and max relative error allowed.
-const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 27] = [
+const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 28] = [
     ("fl_psat_pa(a)", Grid::LiquidT, |f, t| f.psat_pa(t), 5e-6),
     (
         "fl_dpsat_dt(a)",
@@ -140,6 +140,16 @@ const FLUID_FUNCS: [(&str, Grid, FluidFn, f64); 27] = [
         Grid::GasT,
         |f, t| f.vapor_ideal(t).0 + 1.0e7,
         5e-5,
+    ),
+    // Near saturation (1.5 T at P_sat(T), at most 2 MPa), where Z − 1 is largest.
+    (
+        "fl_vapor_h_res_at_tp(1.5 * a, min(fl_psat_pa(a), 2.0e6)) + 1.5 * a * fl_r_specific()",
+        Grid::LiquidT,
+        |f, t| {
+            let p = f.psat_pa(t).min(2.0e6);
+            f.vapor_h_res_at_tp(1.5 * t, p) + 1.5 * t * f.r_specific_j_per_kg_k()
+        },
+        1e-4,
     ),
     // A warm vapour (4 T) at P_sat(T) (at most 2 MPa); plus R T so that it stays away from zero.
     (

@@ -185,3 +185,35 @@ fn an_empty_supply_is_exhausted_at_the_start() {
     assert!(q.pressurant_exhausted);
     assert_eq!(q.pressurant_exhausted_time_s, Some(0.0));
 }
+
+/// Under rk4 at 2 % fill the `depleted` event carried the end state of the step that overdrew
+/// the liquid: 7.3e7 Pa (up to 1.4e21 Pa in a dispersion run). It now carries the pressure of
+/// the last state before that step, inside the run's own pressure envelope.
+#[test]
+fn the_depleted_event_carries_a_pressure_inside_the_run() {
+    for integrator in ["rk4", "dopri5"] {
+        let mut c = load(
+            "lh2_upper_stage",
+            &[
+                "campaign.fidelity=lumped",
+                "propellant.fill_fraction=0.02",
+                &format!("campaign.integrator={integrator}"),
+            ],
+        );
+        c.record_events = true;
+        let q = simulate(&c, &c.params, None);
+        assert!(q.depleted, "{integrator}: not depleted");
+        let ev = q
+            .events
+            .iter()
+            .find(|e| e.kind == cryoslosh::simulate::events::EventKind::Depleted)
+            .unwrap_or_else(|| panic!("{integrator}: no depleted event"));
+        assert!(
+            ev.pressure_pa >= q.min_pressure_pa && ev.pressure_pa <= q.peak_pressure_pa,
+            "{integrator}: depleted at {} Pa outside [{}, {}]",
+            ev.pressure_pa,
+            q.min_pressure_pa,
+            q.peak_pressure_pa
+        );
+    }
+}

@@ -22,7 +22,7 @@
 //! least squares on CoolProp's `CP0MASS − R` and ideal-gas energy (`*_ideal_gas.csv`): `c_v⁰`
 //! within 3.8e-3 for equilibrium para-hydrogen (its ortho–para rotational bump near 150 K is what
 //! needs the degree), 3.4e-4 for normal hydrogen, 1.2e-6 or better for O₂, N₂ and CH₄; `u⁰` within
-//! 2.1e-5 of its span. Outside `[T_lo, T_hi]` `c_v⁰` is held at the end value (u⁰ continues
+//! 2.2e-5 of its span. Outside `[T_lo, T_hi]` `c_v⁰` is held at the end value (u⁰ continues
 //! linearly), so energy stays invertible for any temperature.
 
 use super::FluidProps;

@@ -515,7 +515,11 @@ impl<'a> LaneRun<'a> {
         let t = t0 + th * (t1 - t0);
         q.depleted = true;
         q.depleted_time_s = Some(t);
-        self.record(t, EventKind::Depleted, ev.derived.p_ullage_pa, residual);
+        // The pressure of the last state before the step that ran dry: the end state of a fixed
+        // step that overdrew the liquid is outside the model (rk4 at 2 % fill recorded 7.3e7 Pa,
+        // up to 1.4e21 Pa).
+        let pressure = self.last.derived.p_ullage_pa;
+        self.record(t, EventKind::Depleted, pressure, residual);
         if check_state(p, s, &ev.derived).is_none() {
             self.last_state = *s;
             self.last = *ev;
