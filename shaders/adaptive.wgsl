@@ -367,7 +367,7 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             ev_end = evaluate(&hi, d_end, h);
             r.evaluations += 1u;
         }
-        if (merge_empty_bulk(&hi, &lo)) {
+        if (merge_empty_bulk(&hi, &lo, hi_prev[M_B] + lo_prev[M_B], t_end - t0, BULK_MERGE_DRAIN_S)) {
             ev_end = evaluate(&hi, d_end, h);
             r.evaluations += 1u;
         }
@@ -376,7 +376,7 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
         r.final_time_s = mission;
         let bad = check_state(&hi, ev_end.x);
         let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
-        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], r.phase_start_s + t0, mission, ev_end)) {
+        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], r.phase_start_s + t0, mission, ev_end, bad, K[0][M_S] + K[0][M_B])) {
             if (bad.x == 0.0) {
                 save_last(&r, ev_end.x);
             } else {

@@ -179,11 +179,15 @@ fn absorb(hi: ptr<function, St>, lo: ptr<function, St>, dst: u32, src: u32) {
     (*lo)[src] = 0.0;
 }
 
-/// Merge a nearly empty bulk node into the layer (model::merge_empty_bulk). True if it merged.
-fn merge_empty_bulk(hi: ptr<function, St>, lo: ptr<function, St>) -> bool {
+/// Merge a nearly empty bulk node into the layer (model::merge_empty_bulk): below its fade share,
+/// or drawn by the step just taken (length `step_s`, from a bulk of `m_b_before`) at a rate that
+/// empties it within `horizon_s`. True if it merged.
+fn merge_empty_bulk(hi: ptr<function, St>, lo: ptr<function, St>, m_b_before: f32, step_s: f32, horizon_s: f32) -> bool {
     let m_b = (*hi)[M_B] + (*lo)[M_B];
     let m_s = (*hi)[M_S] + (*lo)[M_S];
-    if (P.fidelity == FID_HOMOGENEOUS || m_b == 0.0 || m_b > BULK_MERGE_FRACTION * (m_b + m_s)) {
+    let taken = m_b_before - m_b;
+    if (P.fidelity == FID_HOMOGENEOUS || m_b == 0.0 || !(abs(m_b) <= 3.0e38)
+        || (m_b > BULK_MERGE_FRACTION * (m_b + m_s) && (step_s <= 0.0 || m_b * step_s >= horizon_s * taken))) {
         return false;
     }
     absorb(hi, lo, M_S, M_B);
@@ -214,8 +218,10 @@ fn crossing(a: f32, b: f32, level: f32) -> f32 {
 }
 
 /// Outcomes of the step from t0 to t1 ending at evaluation ev (LaneRun::outcomes): the bottle
-/// running out (first time), and the tank running dry. True when it ran dry.
-fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval) -> bool {
+/// running out (first time), and the tank running dry. True when it ran dry. `bad`: the end
+/// state's check_state; when it failed, `rate0` (the liquid mass rate at the step's start),
+/// carried on, decides.
+fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval, bad: vec2<f32>, rate0: f32) -> bool {
     if ((P.flags & FLAG_PRESSURIZATION) != 0u && (*r).exhausted == 0u) {
         let empty = P.press_bottle_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
         if (press1 >= empty) {
@@ -226,11 +232,15 @@ fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: 
         }
     }
     let residual = (*r).m_liquid0_kg * DEPLETION_RESIDUAL_FRACTION;
-    if (!(ev.x.m_l <= residual)) {
+    var m_l = ev.x.m_l;
+    if (bad.x != 0.0) {
+        m_l = (*r).m_liquid_kg + (t1 - t0) * rate0;
+    }
+    if (!(m_l <= residual)) {
         return false;
     }
     (*r).depleted = 1u;
-    (*r).depleted_time_s = t0 + crossing((*r).m_liquid_kg, ev.x.m_l, residual) * (t1 - t0);
+    (*r).depleted_time_s = t0 + crossing((*r).m_liquid_kg, m_l, residual) * (t1 - t0);
     return true;
 }
 

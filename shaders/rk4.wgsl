@@ -77,7 +77,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             lo[j] = inc - (sum - hi[j]);
             hi[j] = sum;
         }
-        let merged = merge_empty_bulk(&hi, &lo);
+        let merged = merge_empty_bulk(&hi, &lo, hi_prev[M_B] + lo_prev[M_B], dt, max(BULK_MERGE_DRAIN_S, 2.0 * dt));
         r.steps += 1u;
         budget -= 1u;
         k += 1u;
@@ -88,7 +88,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let ev = evaluate(&hi, d, dt);
         let bad = check_state(&hi, ev.x);
         let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
-        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev)) {
+        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, bad, k1[M_S] + k1[M_B])) {
             if (bad.x == 0.0) {
                 save_last(&r, ev.x);
             } else {

@@ -217,3 +217,72 @@ fn the_depleted_event_carries_a_pressure_inside_the_run() {
         );
     }
 }
+
+/// Two dispersed instances of the LH2 stage at 2 % fill (fill dispersion off) "diverged" under
+/// 0.1 s RK4 steps a second before running dry: one on a bulk left with 6 g at T_b = −206 K,
+/// the other on a step that overdrew the merged layer (1.5e296 kg, NaN ullage energy). Both now
+/// run dry at the DOPRI5 time, and the minimum cavitation margin, set in the drain's last second,
+/// converges with the step (it was −80 m under DOPRI5 and +26 m under RK4: where the last step
+/// landed on the vanishing bulk's temperature spike decided it).
+#[test]
+fn draining_the_last_kilograms_under_fixed_steps_runs_dry_at_any_step() {
+    let instances: [&[&str]; 2] = [
+        &[
+            "tank.heat_leak_w=177.15701064749737",
+            "ullage.temperature_k=33.164238955693946",
+            "slosh.baffle_width_m=0.18054520944744581",
+            "phases.burn1.thrust_n=110511.42695666774",
+            "phases.burn1.duration_s=395.5210120992883",
+            "phases.burn1.excitation.amplitude_m_s2=0.1854515158936084",
+            "phases.burn1.excitation.start_s=98.73235176000162",
+        ],
+        &[
+            "tank.heat_leak_w=133.9300286731593",
+            "ullage.temperature_k=27.408841962051863",
+            "slosh.baffle_width_m=0.22260809941944898",
+            "phases.burn1.thrust_n=107197.54292360658",
+            "phases.burn1.duration_s=396.3562499951205",
+            "phases.burn1.excitation.amplitude_m_s2=0.4070534028654062",
+            "phases.burn1.excitation.start_s=41.94523197002127",
+        ],
+    ];
+    for (k, sets) in instances.iter().enumerate() {
+        let run = |extra: &[&str]| {
+            let mut all = vec!["campaign.fidelity=lumped", "propellant.fill_fraction=0.02"];
+            all.extend_from_slice(sets);
+            all.extend_from_slice(extra);
+            let c = load("lh2_upper_stage", &all);
+            simulate(&c, &c.params, None)
+        };
+        let coarse = run(&["campaign.integrator=rk4"]);
+        let fine = run(&["campaign.integrator=rk4", "campaign.dt_s=0.02"]);
+        let tight = run(&["campaign.integrator=dopri5", "campaign.rtol=1e-8"]);
+        for (name, q) in [
+            ("rk4 0.1 s", &coarse),
+            ("rk4 0.02 s", &fine),
+            ("dopri5", &tight),
+        ] {
+            assert!(!q.diverged, "instance {k} {name}: {:?}", q.diverged_reason);
+            assert!(q.depleted, "instance {k} {name}: not depleted");
+            assert!(
+                q.mass_error_rel < 1e-12 && q.energy_error_rel < 1e-9,
+                "instance {k} {name}: closure {} {}",
+                q.mass_error_rel,
+                q.energy_error_rel
+            );
+            let (t, t_ref) = (q.depleted_time_s.unwrap(), tight.depleted_time_s.unwrap());
+            assert!(
+                (t - t_ref).abs() < 1e-3,
+                "instance {k} {name}: dry at {t} vs {t_ref}"
+            );
+        }
+        let m = |q: &cryoslosh::simulate::Summary| q.min_cavitation_margin_m.unwrap();
+        eprintln!(
+            "instance {k}: min cavitation margin {:.2} m (rk4 0.1 s), {:.2} m (0.02 s), {:.2} m (dopri5 1e-8)",
+            m(&coarse),
+            m(&fine),
+            m(&tight)
+        );
+        assert!((m(&fine) - m(&tight)).abs() < 5.0, "instance {k}");
+    }
+}
