@@ -225,57 +225,103 @@ fn threads_shards_and_merge_give_the_same_bytes() {
     }
 }
 
-/// A campaign file with `extra` appended to the shipped trade; `check` on it must exit 2 and
-/// name the file, the key path and the value.
-fn rejects(extra: &str, needles: &[&str]) {
+/// A campaign file with `extra` appended to the shipped trade; `check` and `run` on it must exit
+/// 2 with one line: `error: FILE: KEY = VALUE is not allowed: expected ALLOWED`, where ALLOWED
+/// contains each of `allowed`.
+fn rejects(extra: &str, key: &str, value: &str, allowed: &[&str]) {
     let text = std::fs::read_to_string(campaign_path("tank_design_trade")).unwrap();
-    let path = scratch(&format!("bad{}.toml", needles[0].len() + extra.len()));
+    let path = scratch(&format!("bad-{key}.toml"));
     std::fs::write(&path, text + extra).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
-        .args(["check", path.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{extra}: {err}");
-    assert!(
-        err.contains(path.file_name().unwrap().to_str().unwrap()),
-        "{err}"
-    );
-    for n in needles {
-        assert!(
-            err.contains(n),
-            "{extra}: the message does not name {n}: {err}"
+    let file = path.to_str().unwrap();
+    let out = scratch(&format!("bad-{key}-out"));
+    for args in [
+        vec!["check", file],
+        vec![
+            "run",
+            file,
+            "--out",
+            out.to_str().unwrap(),
+            "--instances",
+            "2",
+        ],
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra}: {err}");
+        let head = format!("error: {file}: {key} = {value} is not allowed: expected ");
+        assert!(err.starts_with(&head), "{extra}: not `{head}…`: {err}");
+        assert_eq!(err.lines().count(), 1, "{extra}: not one line: {err}");
+        assert_eq!(
+            err.matches(file).count(),
+            1,
+            "{extra}: the file twice: {err}"
         );
+        let rest = &err[head.len()..];
+        for a in allowed {
+            assert!(
+                rest.contains(a),
+                "{extra}: the allowed part lacks {a}: {err}"
+            );
+        }
+        assert!(!out.exists(), "{extra}: wrote {}", out.display());
     }
-    assert!(!err.contains("panicked"), "{err}");
     let _ = std::fs::remove_file(&path);
 }
 
+/// Regression: a variant's bad value printed its message twice ("variant bad: FILE: KEY = …:
+/// FILE: KEY = …") and a bad key pointed at a line of the rebuilt document, not of the file.
 #[test]
-fn bad_variants_exit_2_naming_file_key_and_value() {
+fn bad_variants_exit_2_with_one_line_naming_file_key_value_and_range() {
     rejects(
         "\n[[variants]]\nname = \"bad\"\n\"tank.radius_m\" = -1.0\n",
-        &["variant bad", "tank.radius_m", "-1"],
+        "variants.bad.tank.radius_m",
+        "-1",
+        &["a finite number in ["],
     );
     rejects(
         "\n[[variants]]\nname = \"hot\"\n\"ullage.temperature_k\" = 40.0\n",
-        &[
-            "variants.hot.ullage.temperature_k",
-            "40",
-            "dispersions.inputs.0",
-        ],
+        "variants.hot.ullage.temperature_k",
+        "40.0",
+        &["dispersions.inputs.0"],
     );
     rejects(
         "\n[[variants]]\nname = \"seeded\"\n\"campaign.seed\" = 3\n",
-        &["variants.seeded.campaign.seed", "3"],
+        "variants.seeded.campaign.seed",
+        "3",
+        &["every variant integrates the same instances"],
     );
     rejects(
         "\n[[variants]]\nname = \"baffles\"\n",
-        &["variants.4.name", "baffles"],
+        "variants.4.name",
+        "\"baffles\"",
+        &["a name no other variant has"],
     );
     rejects(
         "\n[[variants]]\nname = \"typo\"\n\"slosh.bafle_count\" = 2\n",
-        &["variant typo", "bafle_count"],
+        "variants.typo.slosh.bafle_count",
+        "2",
+        &["a key the schema has here", "`baffle_count`"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"word\"\n\"tank.heat_leak_w\" = \"abc\"\n",
+        "variants.word.tank.heat_leak_w",
+        "abc",
+        &["f64 (not string \"abc\")"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"far\"\n\"phases.9.duration_s\" = 3.0\n",
+        "variants.far.phases.9.duration_s",
+        "3.0",
+        &["index 9 out of range"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"level\"\n\"campaign.fidelity\" = \"bogus\"\n",
+        "variants.level.campaign.fidelity",
+        "bogus",
+        &["homogeneous | lumped | two_mode"],
     );
 }
 

@@ -46,12 +46,6 @@ pub enum CampaignError {
         value: String,
         allowed: String,
     },
-    #[error("variant {name}: {source}")]
-    Variant {
-        name: String,
-        #[source]
-        source: Box<CampaignError>,
-    },
     #[error("{file}: {key}: the {distribution} distribution of {input} is invalid: {message}")]
     Distribution {
         file: PathBuf,
@@ -69,7 +63,6 @@ impl CampaignError {
             CampaignError::Override { key, .. }
             | CampaignError::Invalid { key, .. }
             | CampaignError::Distribution { key, .. } => Some(key),
-            CampaignError::Variant { source, .. } => source.key(),
             _ => None,
         }
     }
