@@ -345,10 +345,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     d = opts.out_dir.display()
                 );
                 if with_report {
-                    for name in &report.names {
-                        let dir = montecarlo::variants::variant_dir(&opts.out_dir, name);
-                        write_report(&dir, None, true)?;
-                    }
+                    write_report(&opts.out_dir, None, true)?;
                 }
                 return trust(report.untrusted());
             }
