@@ -107,10 +107,10 @@ pub struct FinishedVariants {
 
 /// What [`run`] finished.
 pub enum Ran {
-    /// A campaign without variants.
-    Plain(Finished),
+    /// A campaign without variants (boxed, as the other: each holds a whole campaign).
+    Plain(Box<Finished>),
     /// A campaign with `[[variants]]`.
-    Variants(FinishedVariants),
+    Variants(Box<FinishedVariants>),
 }
 
 /// A campaign ready to run: loaded with its overrides, options checked, backend open.
@@ -125,9 +125,9 @@ pub struct Prepared {
 pub fn run(a: &RunArgs) -> Result<Ran, RunnerError> {
     let prepared = prepare(a)?;
     if prepared.campaign.variants.is_empty() {
-        execute(prepared).map(Ran::Plain)
+        execute(prepared).map(|f| Ran::Plain(Box::new(f)))
     } else {
-        execute_variants(prepared).map(Ran::Variants)
+        execute_variants(prepared).map(|f| Ran::Variants(Box::new(f)))
     }
 }
 

@@ -63,30 +63,23 @@ pub fn differences(path: &Path) -> Result<Vec<DiffRow>, ReportError> {
             .column_by_name("n")
             .and_then(|c| c.as_any().downcast_ref::<UInt64Array>().cloned())
             .ok_or_else(|| bad("n", "u64"))?;
-        let f = [
-            threshold?,
-            probability?,
-            confidence?,
-            value?,
-            lo?,
-            hi?,
-            ulo?,
-            uhi?,
-        ];
+        let (threshold, probability, confidence, value) =
+            (threshold?, probability?, confidence?, value?);
+        let (lo, hi, ulo, uhi) = (lo?, hi?, ulo?, uhi?);
         for r in 0..batch.num_rows() {
             rows.push(DiffRow {
                 variant: variant.value(r).to_string(),
                 baseline: baseline.value(r).to_string(),
                 quantity: quantity.value(r).to_string(),
                 statistic: statistic.value(r).to_string(),
-                threshold: f[0][r],
-                probability: f[1][r],
-                confidence: f[2][r],
-                value: f[3][r],
-                ci_low: f[4][r],
-                ci_high: f[5][r],
-                unpaired_ci_low: f[6][r],
-                unpaired_ci_high: f[7][r],
+                threshold: threshold[r],
+                probability: probability[r],
+                confidence: confidence[r],
+                value: value[r],
+                ci_low: lo[r],
+                ci_high: hi[r],
+                unpaired_ci_low: ulo[r],
+                unpaired_ci_high: uhi[r],
                 n: n.value(r),
             });
         }
