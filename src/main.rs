@@ -333,8 +333,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             };
             let prepared = runner::prepare(&args)?;
             if !prepared.campaign.variants.is_empty() {
-                let (c, opts) = (&prepared.campaign, &prepared.options);
-                let report = montecarlo::variants::run_variants(c, &prepared.backend, opts)?;
+                let runner::FinishedVariants {
+                    options: opts,
+                    report,
+                    ..
+                } = runner::execute_variants(prepared)?;
                 out!("{}", montecarlo::variants::summary_text(&report));
                 outln!(
                     "wrote {d}/variants/{{{}}}/ and {d}/differences.parquet, run.json",
@@ -342,10 +345,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     d = opts.out_dir.display()
                 );
                 if with_report {
-                    for name in &report.names {
-                        let dir = montecarlo::variants::variant_dir(&opts.out_dir, name);
-                        write_report(&dir, None, true)?;
-                    }
+                    write_report(&opts.out_dir, None, true)?;
                 }
                 return trust(report.untrusted());
             }

@@ -6,6 +6,7 @@ use crate::campaign::{Campaign, CampaignError};
 use crate::engine::{Backend, CpuEngine};
 use crate::gpu::context::{self, GpuError};
 use crate::gpu::engine::GpuEngine;
+use crate::montecarlo::variants::VariantsReport;
 use crate::montecarlo::{self, RunError, RunOptions, RunReport, Shard};
 use std::path::PathBuf;
 
@@ -96,6 +97,22 @@ pub struct Finished {
     pub report: RunReport,
 }
 
+/// A finished run of a campaign with `[[variants]]`: one results directory per variant under
+/// `DIR/variants/` and `DIR/differences.parquet`.
+pub struct FinishedVariants {
+    pub campaign: Campaign,
+    pub options: RunOptions,
+    pub report: VariantsReport,
+}
+
+/// What [`run`] finished.
+pub enum Ran {
+    /// A campaign without variants (boxed, as the other: each holds a whole campaign).
+    Plain(Box<Finished>),
+    /// A campaign with `[[variants]]`.
+    Variants(Box<FinishedVariants>),
+}
+
 /// A campaign ready to run: loaded with its overrides, options checked, backend open.
 pub struct Prepared {
     pub campaign: Campaign,
@@ -103,25 +120,32 @@ pub struct Prepared {
     pub options: RunOptions,
 }
 
-/// `cryoslosh run`: load the campaign, check the options, pick the backend and run. A campaign
-/// with `[[variants]]` is refused here (exit 2): the CLI runs it through
-/// [`montecarlo::variants::run_variants`] after [`prepare`], one results directory per variant.
-pub fn run(a: &RunArgs) -> Result<Finished, RunnerError> {
+/// `cryoslosh run`: load the campaign, check the options, pick the backend and run it — a
+/// campaign with `[[variants]]` every variant on the same instances, as the CLI does.
+pub fn run(a: &RunArgs) -> Result<Ran, RunnerError> {
     let prepared = prepare(a)?;
-    if !prepared.campaign.variants.is_empty() {
-        return Err(RunnerError::BadInput(format!(
-            "{}: the campaign has [[variants]]; run it with `cryoslosh run` (one results \
-             directory per variant and differences.parquet), or one variant at a time with --set",
-            a.campaign.display()
-        )));
+    if prepared.campaign.variants.is_empty() {
+        execute(prepared).map(|f| Ran::Plain(Box::new(f)))
+    } else {
+        execute_variants(prepared).map(|f| Ran::Variants(Box::new(f)))
     }
-    execute(prepared)
 }
 
 /// Run a prepared campaign without variants.
 pub fn execute(p: Prepared) -> Result<Finished, RunnerError> {
     let report = montecarlo::run(&p.campaign, &p.backend, &p.options)?;
     Ok(Finished {
+        campaign: p.campaign,
+        options: p.options,
+        report,
+    })
+}
+
+/// Run every variant of a prepared campaign with `[[variants]]`
+/// ([`montecarlo::variants::run_variants`]).
+pub fn execute_variants(p: Prepared) -> Result<FinishedVariants, RunnerError> {
+    let report = montecarlo::variants::run_variants(&p.campaign, &p.backend, &p.options)?;
+    Ok(FinishedVariants {
         campaign: p.campaign,
         options: p.options,
         report,

@@ -2,7 +2,7 @@
 //! input — exit code 2 and a message that names the key (DESIGN.md interface contract).
 
 mod common;
-use common::campaign_path;
+use common::{campaign_path, load};
 use std::process::{Command, Output};
 
 fn cryoslosh(args: &[&str]) -> Output {
@@ -100,6 +100,45 @@ fn check_prints_the_step_plan() {
         assert!(out.contains("step plan:"), "{out}");
         assert!(out.contains("excitation period 0.833333 s"), "{out}");
         assert!(out.contains("right-hand-side evaluations"), "{out}");
+    }
+}
+
+/// Regression: `--set tank.heat_leak_w=1_000` was refused as the string "1_000" although TOML
+/// reads `1_000` as an integer (and `1_000.5`, `1e3` as floats): `--set` takes TOML scalars.
+#[test]
+fn set_accepts_toml_number_literals() {
+    let same = |written: &str, plain: &str| {
+        let a = load("mhtb_selfpress", &[written]);
+        let b = load("mhtb_selfpress", &[plain]);
+        assert_eq!(a.text, b.text, "--set {written} is not --set {plain}");
+    };
+    same("tank.heat_leak_w=1_000", "tank.heat_leak_w=1000");
+    same("tank.heat_leak_w=1_000.5", "tank.heat_leak_w=1000.5");
+    same("tank.heat_leak_w=1e3", "tank.heat_leak_w=1000.0");
+    same("tank.heat_leak_w=+1_0.2_5", "tank.heat_leak_w=10.25");
+    same("campaign.instances=0x40", "campaign.instances=64");
+    assert_eq!(
+        load("mhtb_selfpress", &["campaign.instances=2_000"]).instances,
+        2000
+    );
+    // Through the command line too, and what TOML refuses is still refused, naming the key.
+    let path = campaign_path("mhtb_selfpress");
+    let o = cryoslosh(&[
+        "check",
+        path.to_str().unwrap(),
+        "--set",
+        "tank.heat_leak_w=1_000",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for bad in [
+        "tank.heat_leak_w=1__000",
+        "tank.heat_leak_w=_1000",
+        "tank.heat_leak_w=1_000_",
+    ] {
+        let o = cryoslosh(&["check", path.to_str().unwrap(), "--set", bad]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "--set {bad}: {err}");
+        assert!(err.contains("tank.heat_leak_w"), "{err}");
     }
 }
 

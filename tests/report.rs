@@ -550,3 +550,59 @@ fn merged_shards_report_like_a_run() {
     let manifest = std::fs::read_to_string(merged.join("manifest.json")).unwrap();
     assert!(!manifest.contains("report/"));
 }
+
+/// Regression: `report DIR` of a run with `[[variants]]` failed ("no instances.parquet"); it now
+/// writes each variant's report and a front page with the statistics and paired differences.
+#[test]
+fn report_of_a_variants_run_has_each_variant_and_the_differences() {
+    let run = scratch("variants").join("run");
+    let path = campaign_path("tank_design_trade");
+    let (path, out) = (path.to_str().unwrap(), run.to_str().unwrap());
+    let mut args = vec![
+        "run",
+        path,
+        "--out",
+        out,
+        "--instances",
+        "6",
+        "--backend",
+        "cpu",
+    ];
+    for set in [
+        "phases.pad_hold.duration_s=30",
+        "phases.burn1.duration_s=100",
+        "phases.coast.duration_s=300",
+    ] {
+        args.extend(["--set", set]);
+    }
+    ok(&cryoslosh(&args));
+    ok(&cryoslosh(&["report", out]));
+    let report = run.join("report");
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    for needle in [
+        "Statistics per variant",
+        "Paired differences against the baseline",
+        "<code>thick_insulation</code> − <code>baseline</code>",
+        "slosh.baffle_count=0, tank.heat_leak_w=90",
+        "variants/baffles_insulation/index.html",
+    ] {
+        assert!(html.contains(needle), "index.html lacks {needle}");
+    }
+    let diffs = run.join("differences.parquet");
+    let rows = cryoslosh::montecarlo::table::read_f64(&diffs, "value").unwrap();
+    assert_eq!(html.matches("_diff</td>").count(), rows.len());
+    for name in [
+        "baseline",
+        "baffles",
+        "thick_insulation",
+        "baffles_insulation",
+    ] {
+        let own = report.join("variants").join(name);
+        let svgs = check_plots(&own);
+        assert!(svgs.iter().any(|s| s == "worst_boiloff_kg.svg"), "{name}");
+    }
+    let hidden = std::fs::read_dir(report.join("variants")).unwrap();
+    assert!(hidden
+        .filter_map(Result::ok)
+        .all(|e| !e.file_name().to_string_lossy().starts_with('.')));
+}

@@ -138,6 +138,107 @@ fn a_variant_equal_to_the_baseline_differs_by_exactly_zero() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Null count and length of a column of a Parquet file.
+fn nulls(path: &Path, column: &str) -> (usize, usize) {
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    let b = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(path).unwrap()).unwrap();
+    let (mut n, mut len) = (0, 0);
+    for batch in b.build().unwrap() {
+        let batch = batch.unwrap();
+        let col = batch.column_by_name(column).unwrap();
+        n += col.null_count();
+        len += col.len();
+    }
+    (n, len)
+}
+
+/// Regression: a variant that set `campaign.fidelity = "homogeneous"` on a lumped campaign
+/// wrote its slosh and stratification QoIs as 0 (as a plain homogeneous run did), so its
+/// statistics said "no slosh" and the paired differences were computed against those zeros.
+#[test]
+fn a_homogeneous_variant_has_null_slosh_and_stratification_and_no_differences_there() {
+    let mut c =
+        short_trade("\n[[variants]]\nname = \"homog\"\n\"campaign.fidelity\" = \"homogeneous\"\n");
+    c.variants = vec![c.variants[0].clone(), c.variants[4].clone()];
+    let dir = scratch("homog");
+    let n = 8;
+    let r = run(&c, &dir, n, 2);
+    let unmodelled = [
+        "max_slosh_angle_rad",
+        "peak_slosh_force_n",
+        "peak_slosh_moment_n_m",
+        "final_stratification_k",
+        "slosh_out_of_range_fraction",
+        "max_slosh_angle_rad.burn1",
+        "slosh_out_of_range",
+    ];
+    let file = |name: &str| variant_dir(&dir, name).join("instances.parquet");
+    for q in unmodelled {
+        assert_eq!(
+            nulls(&file("homog"), q),
+            (n as usize, n as usize),
+            "homog {q}"
+        );
+        assert_eq!(nulls(&file("baseline"), q), (0, n as usize), "baseline {q}");
+    }
+    assert_eq!(nulls(&file("homog"), "boiloff_kg"), (0, n as usize));
+    // The statistics of a QoI without a value: no value, n = 0.
+    for q in ["max_slosh_angle_rad", "final_stratification_k"] {
+        let mean = r.reports[1]
+            .statistics
+            .iter()
+            .find(|x| x.stat.quantity == q && x.stat.statistic == "mean")
+            .unwrap();
+        assert!(mean.stat.value.is_nan() && mean.stat.n == 0, "{mean:?}");
+    }
+    // Paired differences exist only where both variants have a value.
+    for d in r.differences.iter().filter(|d| d.variant == "homog") {
+        if unmodelled.contains(&d.quantity.as_str()) {
+            assert_eq!(d.n, 0, "{d:?}");
+            assert!(
+                d.value.is_nan() && d.ci_low.is_nan() && d.ci_high.is_nan(),
+                "{d:?}"
+            );
+        } else if d.quantity == "boiloff_kg" {
+            assert_eq!(d.n, n, "{d:?}");
+            assert!(d.value.is_finite(), "{d:?}");
+        }
+    }
+    let diff = dir.join("differences.parquet");
+    let rows = read_f64(&diff, "value").unwrap().len();
+    let (null_values, _) = nulls(&diff, "value");
+    let expected = r.differences.iter().filter(|d| d.value.is_nan()).count();
+    assert!(expected > 0 && null_values == expected && rows == r.differences.len());
+    let text = cryoslosh::montecarlo::variants::summary_text(&r);
+    let line = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("Δfinal_stratification_k mean"))
+        .unwrap();
+    assert!(line.contains("– [–, –]") && line.ends_with("n 0"), "{line}");
+    // The variant's directory holds what a plain homogeneous run of its campaign writes.
+    let plain = scratch("homog-plain");
+    let opts = RunOptions {
+        out_dir: plain.clone(),
+        instances: n,
+        seed: c.seed,
+        shard: Shard::ALL,
+        chunk_size: 16,
+        progress: false,
+        histories: Vec::new(),
+        until: None,
+        force: false,
+        resume: false,
+    };
+    let backend = Backend::Cpu(CpuEngine::new(1).unwrap());
+    cryoslosh::montecarlo::run(&c.variant(1).unwrap(), &backend, &opts).unwrap();
+    assert_eq!(
+        std::fs::read(plain.join("instances.parquet")).unwrap(),
+        std::fs::read(file("homog")).unwrap()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&plain);
+}
+
 #[test]
 fn threads_shards_and_merge_give_the_same_bytes() {
     let c = short_trade("");
@@ -225,57 +326,103 @@ fn threads_shards_and_merge_give_the_same_bytes() {
     }
 }
 
-/// A campaign file with `extra` appended to the shipped trade; `check` on it must exit 2 and
-/// name the file, the key path and the value.
-fn rejects(extra: &str, needles: &[&str]) {
+/// A campaign file with `extra` appended to the shipped trade; `check` and `run` on it must exit
+/// 2 with one line: `error: FILE: KEY = VALUE is not allowed: expected ALLOWED`, where ALLOWED
+/// contains each of `allowed`.
+fn rejects(extra: &str, key: &str, value: &str, allowed: &[&str]) {
     let text = std::fs::read_to_string(campaign_path("tank_design_trade")).unwrap();
-    let path = scratch(&format!("bad{}.toml", needles[0].len() + extra.len()));
+    let path = scratch(&format!("bad-{key}.toml"));
     std::fs::write(&path, text + extra).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
-        .args(["check", path.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{extra}: {err}");
-    assert!(
-        err.contains(path.file_name().unwrap().to_str().unwrap()),
-        "{err}"
-    );
-    for n in needles {
-        assert!(
-            err.contains(n),
-            "{extra}: the message does not name {n}: {err}"
+    let file = path.to_str().unwrap();
+    let out = scratch(&format!("bad-{key}-out"));
+    for args in [
+        vec!["check", file],
+        vec![
+            "run",
+            file,
+            "--out",
+            out.to_str().unwrap(),
+            "--instances",
+            "2",
+        ],
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra}: {err}");
+        let head = format!("error: {file}: {key} = {value} is not allowed: expected ");
+        assert!(err.starts_with(&head), "{extra}: not `{head}…`: {err}");
+        assert_eq!(err.lines().count(), 1, "{extra}: not one line: {err}");
+        assert_eq!(
+            err.matches(file).count(),
+            1,
+            "{extra}: the file twice: {err}"
         );
+        let rest = &err[head.len()..];
+        for a in allowed {
+            assert!(
+                rest.contains(a),
+                "{extra}: the allowed part lacks {a}: {err}"
+            );
+        }
+        assert!(!out.exists(), "{extra}: wrote {}", out.display());
     }
-    assert!(!err.contains("panicked"), "{err}");
     let _ = std::fs::remove_file(&path);
 }
 
+/// Regression: a variant's bad value printed its message twice ("variant bad: FILE: KEY = …:
+/// FILE: KEY = …") and a bad key pointed at a line of the rebuilt document, not of the file.
 #[test]
-fn bad_variants_exit_2_naming_file_key_and_value() {
+fn bad_variants_exit_2_with_one_line_naming_file_key_value_and_range() {
     rejects(
         "\n[[variants]]\nname = \"bad\"\n\"tank.radius_m\" = -1.0\n",
-        &["variant bad", "tank.radius_m", "-1"],
+        "variants.bad.tank.radius_m",
+        "-1",
+        &["a finite number in ["],
     );
     rejects(
         "\n[[variants]]\nname = \"hot\"\n\"ullage.temperature_k\" = 40.0\n",
-        &[
-            "variants.hot.ullage.temperature_k",
-            "40",
-            "dispersions.inputs.0",
-        ],
+        "variants.hot.ullage.temperature_k",
+        "40.0",
+        &["dispersions.inputs.0"],
     );
     rejects(
         "\n[[variants]]\nname = \"seeded\"\n\"campaign.seed\" = 3\n",
-        &["variants.seeded.campaign.seed", "3"],
+        "variants.seeded.campaign.seed",
+        "3",
+        &["every variant integrates the same instances"],
     );
     rejects(
         "\n[[variants]]\nname = \"baffles\"\n",
-        &["variants.4.name", "baffles"],
+        "variants.4.name",
+        "\"baffles\"",
+        &["a name no other variant has"],
     );
     rejects(
         "\n[[variants]]\nname = \"typo\"\n\"slosh.bafle_count\" = 2\n",
-        &["variant typo", "bafle_count"],
+        "variants.typo.slosh.bafle_count",
+        "2",
+        &["a key the schema has here", "`baffle_count`"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"word\"\n\"tank.heat_leak_w\" = \"abc\"\n",
+        "variants.word.tank.heat_leak_w",
+        "abc",
+        &["f64 (not string \"abc\")"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"far\"\n\"phases.9.duration_s\" = 3.0\n",
+        "variants.far.phases.9.duration_s",
+        "3.0",
+        &["index 9 out of range"],
+    );
+    rejects(
+        "\n[[variants]]\nname = \"level\"\n\"campaign.fidelity\" = \"bogus\"\n",
+        "variants.level.campaign.fidelity",
+        "bogus",
+        &["homogeneous | lumped | two_mode"],
     );
 }
 

@@ -29,6 +29,7 @@ __all__ = [
     "RunFailedError",
     "Simulation",
     "UntrustedError",
+    "VariantsResult",
     "check",
     "merge",
     "replay",
@@ -45,6 +46,22 @@ class Result:
     instances: pa.Table
     statistics: pa.Table
     run_info: Dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class VariantsResult:
+    """A finished run or merge of a campaign with ``[[variants]]``: each variant's results (as
+    ``DIR/variants/<name>/``, in the campaign's order: the first is the baseline), the paired
+    differences against the baseline (``DIR/differences.parquet``) and ``DIR/run.json``."""
+
+    variants: Dict[str, Result]
+    differences: pa.Table
+    run_info: Dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def baseline(self) -> str:
+        """The name of the baseline variant."""
+        return next(iter(self.variants))
 
 
 @dataclass(frozen=True)
@@ -72,9 +89,28 @@ def _value(v: Any) -> str:
     return str(v)
 
 
-def _result(raw: Tuple[pa.Table, pa.Table, str, Optional[str]]) -> Result:
-    instances, statistics, run_json, untrusted = raw
-    result = Result(instances, statistics, json.loads(run_json))
+Raw = Tuple[
+    Optional[pa.Table],
+    Optional[pa.Table],
+    str,
+    Optional[str],
+    List[Tuple[str, pa.Table, pa.Table, str]],
+    Optional[pa.Table],
+]
+
+
+def _result(raw: Raw) -> Union[Result, VariantsResult]:
+    instances, statistics, run_json, untrusted, variants, differences = raw
+    result: Union[Result, VariantsResult]
+    if differences is None:
+        assert instances is not None and statistics is not None
+        result = Result(instances, statistics, json.loads(run_json))
+    else:
+        result = VariantsResult(
+            {name: Result(i, s, json.loads(r)) for name, i, s, r in variants},
+            differences,
+            json.loads(run_json),
+        )
     if untrusted is not None:
         raise UntrustedError(
             f"{untrusted}: the statistics exclude them; see run.json and statistics.parquet",
@@ -95,13 +131,15 @@ def run(
     out: Optional[PathLike] = None,
     chunk_size: Optional[int] = None,
     force: bool = False,
-) -> Result:
+) -> Union[Result, VariantsResult]:
     """Run a dispersion campaign, as ``cryoslosh run CAMPAIGN --out DIR``.
 
     ``instances`` and ``seed`` default to the campaign's; ``sets`` are ``--set`` overrides;
     ``backend`` is ``cpu``, ``gpu`` or ``auto``; ``threads`` None or 0 takes one per core;
     ``shard`` is ``"I/N"``. With ``out`` the results directory is kept there (needed by
     :func:`replay` and :func:`merge`); without it a scratch directory is used and removed.
+    A campaign with ``[[variants]]`` gives a :class:`VariantsResult` (every variant on the same
+    instances, and the paired differences), with the files ``cryoslosh run`` writes.
     """
     raw = _native.run(
         os.fspath(campaign),
@@ -118,9 +156,11 @@ def run(
     return _result(raw)
 
 
-def merge(dirs: Sequence[PathLike], out: PathLike, force: bool = False) -> Result:
+def merge(
+    dirs: Sequence[PathLike], out: PathLike, force: bool = False
+) -> Union[Result, VariantsResult]:
     """Join shard directories into ``out``, as ``cryoslosh merge``: byte-identical to the
-    unsharded run."""
+    unsharded run (a :class:`VariantsResult` for shards of a campaign with ``[[variants]]``)."""
     return _result(_native.merge([os.fspath(d) for d in dirs], os.fspath(out), force))
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Union
 
 import cryoslosh
-from cryoslosh import PathLike, Result, UntrustedError
+from cryoslosh import PathLike, Result, UntrustedError, VariantsResult
 
 
 def _shard_files(
@@ -58,7 +58,7 @@ def run(
     sets: Optional[Union[Dict[str, Any], Sequence[str]]] = None,
     threads: Optional[int] = None,
     out: Optional[PathLike] = None,
-) -> Result:
+) -> Union[Result, VariantsResult]:
     """Run ``campaign`` as ``shards`` Dask tasks on ``client`` (a ``distributed.Client``) and
     merge them exactly: the tables equal those of :func:`cryoslosh.run` on one machine.
 

@@ -51,8 +51,8 @@ pub fn failed(py: Python<'_>, message: String) -> PyErr {
     raise(py, "RunFailedError", message, &PyDict::new(py))
 }
 
-/// file, key, value and allowed of a campaign error, where it has them (a variant's error: those
-/// of the error inside it).
+/// file, key, value and allowed of a campaign error, where it has them (a variant's error names
+/// its key under the variant, `variants.<name>.<key>`).
 fn campaign_fields(c: &CampaignError, kwargs: &Bound<'_, PyDict>) -> PyResult<()> {
     let file = match c {
         CampaignError::Read { file, .. }
@@ -61,7 +61,6 @@ fn campaign_fields(c: &CampaignError, kwargs: &Bound<'_, PyDict>) -> PyResult<()
         | CampaignError::Override { file, .. }
         | CampaignError::Invalid { file, .. }
         | CampaignError::Distribution { file, .. } => file,
-        CampaignError::Variant { source, .. } => return campaign_fields(source, kwargs),
     };
     kwargs.set_item("file", file.display().to_string())?;
     kwargs.set_item("key", c.key())?;

@@ -9,14 +9,26 @@ mod tables;
 
 use cryoslosh::campaign::Campaign;
 use cryoslosh::montecarlo;
-use cryoslosh::runner::{self, RunArgs, RunnerError};
+use cryoslosh::runner::{self, Ran, RunArgs, RunnerError};
 use cryoslosh::simulate::History;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 
-/// What `run` and `merge` hand back: instances and statistics tables, run.json's text and,
-/// when the statistics cannot be signed (CLI exit code 3), why.
-type Results<'py> = (Bound<'py, PyAny>, Bound<'py, PyAny>, String, Option<String>);
+/// What `run` and `merge` hand back: instances and statistics tables (`None` for a campaign with
+/// `[[variants]]`), run.json's text, why the statistics cannot be signed (CLI exit code 3) or
+/// `None`, and for a campaign with variants each variant's (name, instances, statistics,
+/// run.json) and the differences table.
+type Results<'py> = (
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+    String,
+    Option<String>,
+    Vec<Variant<'py>>,
+    Option<Bound<'py, PyAny>>,
+);
+
+/// One variant of a run with `[[variants]]`: its name, instances, statistics and run.json.
+type Variant<'py> = (String, Bound<'py, PyAny>, Bound<'py, PyAny>, String);
 
 /// What `simulate` hands back: the history, the sampled inputs and the summary text.
 type Simulated<'py> = (Bound<'py, PyAny>, Vec<(String, f64)>, String);
@@ -36,8 +48,43 @@ fn read_dir(dir: &Path) -> Result<Read, String> {
     Ok(Read {
         instances: tables::read(&dir.join("instances.parquet"))?,
         statistics: tables::read(&dir.join("statistics.parquet"))?,
-        run_json: std::fs::read_to_string(dir.join("run.json"))
-            .map_err(|e| format!("{}: {e}", dir.join("run.json").display()))?,
+        run_json: read_text(&dir.join("run.json"))?,
+    })
+}
+
+fn read_text(path: &Path) -> Result<String, String> {
+    std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// A results directory as the CLI wrote it: one run, or one run per variant and the
+/// differences.
+enum Written {
+    Plain(Read),
+    Variants {
+        run_json: String,
+        variants: Vec<(String, Read)>,
+        differences: tables::Decoded,
+    },
+}
+
+/// Read what a run or merge wrote into `dir` (`names`: its variants, if it had any).
+fn read_written(dir: &Path, names: Option<&[String]>) -> Result<Written, String> {
+    let Some(names) = names else {
+        return read_dir(dir).map(Written::Plain);
+    };
+    let variants = names
+        .iter()
+        .map(|n| {
+            Ok((
+                n.clone(),
+                read_dir(&montecarlo::variants::variant_dir(dir, n))?,
+            ))
+        })
+        .collect::<Result<_, String>>()?;
+    Ok(Written::Variants {
+        run_json: read_text(&dir.join("run.json"))?,
+        variants,
+        differences: tables::read(&dir.join("differences.parquet"))?,
     })
 }
 
@@ -62,17 +109,37 @@ impl Failure {
     }
 }
 
-fn results<'py>(py: Python<'py>, r: Read, untrusted: Option<String>) -> PyResult<Results<'py>> {
-    Ok((
-        r.instances.into_py(py)?,
-        r.statistics.into_py(py)?,
-        r.run_json,
-        untrusted,
-    ))
+fn results<'py>(py: Python<'py>, w: Written, untrusted: Option<String>) -> PyResult<Results<'py>> {
+    match w {
+        Written::Plain(r) => Ok((
+            Some(r.instances.into_py(py)?),
+            Some(r.statistics.into_py(py)?),
+            r.run_json,
+            untrusted,
+            Vec::new(),
+            None,
+        )),
+        Written::Variants {
+            run_json,
+            variants,
+            differences,
+        } => {
+            let variants = variants
+                .into_iter()
+                .map(|(name, r)| {
+                    let (i, s) = (r.instances.into_py(py)?, r.statistics.into_py(py)?);
+                    Ok((name, i, s, r.run_json))
+                })
+                .collect::<PyResult<_>>()?;
+            let differences = Some(differences.into_py(py)?);
+            Ok((None, None, run_json, untrusted, variants, differences))
+        }
+    }
 }
 
 /// `cryoslosh run`: run the campaign (or one shard of it) into `out` (a scratch directory,
-/// removed afterwards, when `None`) and return its tables.
+/// removed afterwards, when `None`) and return its tables — of every variant and their
+/// differences for a campaign with `[[variants]]`.
 #[pyfunction]
 #[pyo3(signature = (campaign, out=None, instances=None, seed=None, sets=Vec::new(), backend="cpu".to_string(), threads=0, shard=None, chunk_size=None, force=false))]
 #[expect(
@@ -110,17 +177,21 @@ fn run<'py>(
         progress: false,
         ..RunArgs::default()
     };
-    let done = py.detach(|| -> Result<(Read, Option<String>), Failure> {
-        let finished = runner::run(&args).map_err(Failure::from)?;
-        let read = read_dir(&args.out).map_err(Failure::Io)?;
-        Ok((read, finished.report.untrusted()))
+    let done = py.detach(|| -> Result<(Written, Option<String>), Failure> {
+        let (names, untrusted) = match runner::run(&args).map_err(Failure::from)? {
+            Ran::Plain(f) => (None, f.report.untrusted()),
+            Ran::Variants(f) => (Some(f.report.names.clone()), f.report.untrusted()),
+        };
+        let read = read_written(&args.out, names.as_deref()).map_err(Failure::Io)?;
+        Ok((read, untrusted))
     });
     drop(scratch);
     let (read, untrusted) = done.map_err(|f| f.into_py(py))?;
     results(py, read, untrusted)
 }
 
-/// `cryoslosh merge`: join shard directories into `out` and return its tables.
+/// `cryoslosh merge`: join shard directories (of a run with or without variants) into `out` and
+/// return its tables.
 #[pyfunction]
 #[pyo3(signature = (dirs, out, force=false))]
 fn merge<'py>(
@@ -129,11 +200,20 @@ fn merge<'py>(
     out: PathBuf,
     force: bool,
 ) -> PyResult<Results<'py>> {
-    let done = py.detach(|| -> Result<(Read, Option<String>), Failure> {
-        let report = montecarlo::merge(&dirs, &out, force)
-            .map_err(|e| Failure::from(RunnerError::Run(e)))?;
-        let read = read_dir(&out).map_err(Failure::Io)?;
-        Ok((read, report.untrusted()))
+    let done = py.detach(|| -> Result<(Written, Option<String>), Failure> {
+        let failed = |e| Failure::from(RunnerError::Run(e));
+        let variants = dirs
+            .first()
+            .is_some_and(|d| montecarlo::variants::is_variants_dir(d));
+        let (names, untrusted) = if variants {
+            let r = montecarlo::variants::merge_variants(&dirs, &out, force).map_err(failed)?;
+            (Some(r.names.clone()), r.untrusted())
+        } else {
+            let r = montecarlo::merge(&dirs, &out, force).map_err(failed)?;
+            (None, r.untrusted())
+        };
+        let read = read_written(&out, names.as_deref()).map_err(Failure::Io)?;
+        Ok((read, untrusted))
     });
     let (read, untrusted) = done.map_err(|f| f.into_py(py))?;
     results(py, read, untrusted)

@@ -46,12 +46,6 @@ pub enum CampaignError {
         value: String,
         allowed: String,
     },
-    #[error("variant {name}: {source}")]
-    Variant {
-        name: String,
-        #[source]
-        source: Box<CampaignError>,
-    },
     #[error("{file}: {key}: the {distribution} distribution of {input} is invalid: {message}")]
     Distribution {
         file: PathBuf,
@@ -69,7 +63,6 @@ impl CampaignError {
             CampaignError::Override { key, .. }
             | CampaignError::Invalid { key, .. }
             | CampaignError::Distribution { key, .. } => Some(key),
-            CampaignError::Variant { source, .. } => source.key(),
             _ => None,
         }
     }
@@ -357,9 +350,11 @@ fn one_line(s: &str) -> String {
         .join(" ")
 }
 
-/// Parse a `--set` value: integer, float, boolean, a TOML literal written as in the file (a
-/// quoted string `"helium"`, an array `[1, 2]`, an inline table), else the text as a bare string
-/// (`pressurization.gas=helium`). A quoted value used to keep its quotes and fail validation.
+/// Parse a `--set` value: integer, float, boolean, any TOML literal written as in the file
+/// (`1_000`, `1_000.5`, `0x10`, a quoted string `"helium"`, an array `[1, 2]`, an inline table;
+/// no field takes a date, so `2024-01-01` stays text), else the text as a bare string
+/// (`pressurization.gas=helium`). A quoted value used to keep its quotes and fail validation,
+/// and `1_000` to be refused as the string "1_000".
 fn parse_value(v: &str) -> toml::Value {
     if let Ok(i) = v.parse::<i64>() {
         toml::Value::Integer(i)
@@ -367,11 +362,11 @@ fn parse_value(v: &str) -> toml::Value {
         toml::Value::Float(x)
     } else if let Ok(b) = v.parse::<bool>() {
         toml::Value::Boolean(b)
-    } else if let Some(literal) = v
-        .starts_with(['"', '\'', '[', '{'])
-        .then(|| toml::from_str::<toml::Table>(&format!("v = {v}")).ok())
-        .flatten()
+    } else if let Some(literal) = toml::from_str::<toml::Table>(&format!("v = {v}"))
+        .ok()
+        .filter(|t| t.len() == 1)
         .and_then(|mut t| t.remove("v"))
+        .filter(|v| !matches!(v, toml::Value::Datetime(_)))
     {
         literal
     } else {

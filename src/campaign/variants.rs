@@ -17,6 +17,7 @@
 //! `[dispersions]`, `[statistics]`, `campaign.instances` or `campaign.seed` (what is sampled and
 //! how it is summarised is one thing for every variant).
 
+use super::raw::RawCampaign;
 use super::{apply_value, canonical_key, Campaign, CampaignError};
 
 /// One design variant: its name and its overrides (key path, value) in file order.
@@ -178,21 +179,27 @@ impl Campaign {
     /// `[[variants]]`, the variant's overrides applied, then validated like any campaign. Its
     /// `text` is that resolved document, so a run of the variant replays alone.
     ///
-    /// Errors: an override on a dispersed key ([`CampaignError::Invalid`]), a key the schema
-    /// does not have or a value out of range ([`CampaignError::Variant`] around the error
-    /// `--set` would give).
+    /// Errors are one [`CampaignError::Invalid`] naming the campaign file, the key path under
+    /// the variant (`variants.<name>.<key>`), the value and what is allowed: an override on a
+    /// dispersed key, a key the schema does not have, a value of the wrong type or out of range,
+    /// or a setting the variant's campaign refuses as a whole (a step too coarse for it).
     pub fn variant(&self, k: usize) -> Result<Campaign, CampaignError> {
         let v = &self.variants[k];
-        let wrap = |source: CampaignError| CampaignError::Variant {
-            name: v.name.clone(),
-            source: Box::new(source),
+        let invalid = |key: &str, value: String, allowed: String| CampaignError::Invalid {
+            file: self.path.clone(),
+            key: format!("variants.{}.{key}", v.name),
+            value,
+            allowed,
         };
-        let mut doc: toml::Table = toml::from_str(&self.text).map_err(|e| {
-            wrap(CampaignError::Syntax {
+        let shown = |value: &toml::Value| match value {
+            toml::Value::String(s) => s.clone(),
+            other => other.to_string(),
+        };
+        let mut doc: toml::Table =
+            toml::from_str(&self.text).map_err(|e| CampaignError::Syntax {
                 file: self.path.clone(),
-                message: e.to_string(),
-            })
-        })?;
+                message: super::one_line(&e.to_string()),
+            })?;
         doc.remove("variants");
         for (key, value) in &v.overrides {
             let at = canonical_key(&self.document, key);
@@ -202,31 +209,67 @@ impl Campaign {
                 .iter()
                 .position(|input| canonical_key(&self.document, &input.key) == at)
             {
-                return Err(CampaignError::Invalid {
-                    file: self.path.clone(),
-                    key: format!("variants.{}.{key}", v.name),
-                    value: value.to_string(),
-                    allowed: format!(
+                return Err(invalid(
+                    key,
+                    shown(value),
+                    format!(
                         "a key that [dispersions] does not vary (dispersions.inputs.{j} samples \
                          it for every instance; variants share the dispersed inputs)"
                     ),
-                });
+                ));
             }
-            apply_value(&mut doc, key, value.clone()).map_err(|(key, message)| {
-                wrap(CampaignError::Override {
-                    file: self.path.clone(),
+            apply_value(&mut doc, key, value.clone()).map_err(|(_, message)| {
+                invalid(
                     key,
-                    message,
-                })
+                    shown(value),
+                    format!("a key path of the campaign: {message}"),
+                )
             })?;
+            // Checked one override at a time, so the error names the one that breaks the schema
+            // (the whole document's error would point into the rebuilt text, not the file).
+            if let Err(e) = toml::Value::Table(doc.clone()).try_into::<RawCampaign>() {
+                return Err(invalid(key, shown(value), schema_allowed(e.message())));
+            }
         }
-        let text = toml::to_string(&doc).map_err(|e| {
-            wrap(CampaignError::Schema {
-                file: self.path.clone(),
-                message: e.to_string(),
-            })
+        let text = toml::to_string(&doc).map_err(|e| CampaignError::Schema {
+            file: self.path.clone(),
+            message: format!("variant {}: {e}", v.name),
         })?;
-        let mut c = Campaign::from_text(&self.path, &text, &[]).map_err(wrap)?;
+        let mut c = Campaign::from_text(&self.path, &text, &[]).map_err(|e| match e {
+            // The key as the variant spells it when it set that key, else the campaign's own.
+            CampaignError::Invalid {
+                key,
+                value,
+                allowed,
+                ..
+            } => {
+                let at = canonical_key(&doc, &key);
+                let written = v
+                    .overrides
+                    .iter()
+                    .find(|(o, _)| canonical_key(&doc, o) == at)
+                    .map_or(key, |(o, _)| o.clone());
+                invalid(&written, value, allowed)
+            }
+            CampaignError::Distribution {
+                key,
+                distribution,
+                input,
+                message,
+                ..
+            } => invalid(
+                &key,
+                format!("{distribution} of {input}"),
+                format!("a valid distribution ({message})"),
+            ),
+            CampaignError::Schema { message, .. } | CampaignError::Syntax { message, .. } => {
+                CampaignError::Schema {
+                    file: self.path.clone(),
+                    message: format!("variant {}: {message}", v.name),
+                }
+            }
+            other => other,
+        })?;
         c.record_events = self.record_events;
         Ok(c)
     }
@@ -235,4 +278,26 @@ impl Campaign {
     pub fn variant_campaigns(&self) -> Result<Vec<Campaign>, CampaignError> {
         (0..self.variants.len()).map(|k| self.variant(k)).collect()
     }
+}
+
+/// What serde's message about a variant's override says is allowed: `unknown field `x`,
+/// expected one of `a`, `b`` → "a key of the schema: one of `a`, `b`"; `invalid type: string
+/// "abc", expected f64` → "f64 (not string "abc")"; anything else as it is.
+fn schema_allowed(message: &str) -> String {
+    let message = super::one_line(message);
+    if let Some(rest) = message.strip_prefix("unknown field ") {
+        let expected = rest.split_once(", expected ").map_or("", |(_, e)| e);
+        return format!("a key the schema has here: {expected}");
+    }
+    if let Some(rest) = message.strip_prefix("invalid type: ") {
+        if let Some((got, expected)) = rest.split_once(", expected ") {
+            return format!("{expected} (not {got})");
+        }
+    }
+    if let Some(rest) = message.strip_prefix("unknown variant ") {
+        if let Some((_, expected)) = rest.split_once(", expected ") {
+            return expected.to_string();
+        }
+    }
+    message
 }

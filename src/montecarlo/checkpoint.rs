@@ -101,7 +101,7 @@ pub fn commit(
     } else {
         serde_json::Value::Null
     };
-    let mut w = InstanceWriter::create(&path, &c.dispersions, &phases, Vec::new())?;
+    let mut w = InstanceWriter::create(&path, c, Vec::new())?;
     for r in block {
         w.push(r)?;
     }
@@ -246,13 +246,13 @@ pub fn assemble(
     meta: Vec<(String, String)>,
 ) -> Result<PathBuf, RunError> {
     let path = out.join("instances.parquet");
-    let phases = table::phase_names(c);
-    let mut w = InstanceWriter::create(&path, &c.dispersions, &phases, meta.clone())?;
+    let mut w = InstanceWriter::create(&path, c, meta.clone())?;
     for part in parts(work) {
         table::copy_rows(&mut w, &part)?;
     }
     w.finish()?;
     if c.record_events {
+        let phases = table::phase_names(c);
         let mut events = EventWriter::create(&out.join("events.parquet"), &phases, meta)?;
         for part in listing(&events_dir(work)) {
             events.copy_rows(&part)?;

@@ -144,8 +144,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
     let mut meta = first.meta.clone();
     set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());
     let inst_path = dir.join("instances.parquet");
-    let phases = table::phase_names(&c);
-    let mut writer = InstanceWriter::create(&inst_path, &c.dispersions, &phases, meta.clone())?;
+    let mut writer = InstanceWriter::create(&inst_path, &c, meta.clone())?;
     let (mut rows, mut diverged, mut rejected) = (0, 0, 0);
     for s in &shards {
         let file = s.dir.join("instances.parquet");
@@ -178,6 +177,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
     }
     if with_events[0] {
         let path = dir.join("events.parquet");
+        let phases = table::phase_names(&c);
         let mut events = super::events::EventWriter::create(&path, &phases, meta.clone())?;
         for s in &shards {
             events.copy_rows(&s.dir.join("events.parquet"))?;

@@ -28,7 +28,7 @@ use std::io::IsTerminal;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 pub use summary::summary_text;
-use table::ReadError;
+use table::{ReadError, RowShape};
 
 /// A contiguous slice of the instance range: shard `index` of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -374,7 +374,13 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         let phases = table::phase_names(c);
         let qois = table::qoi_names(&phases);
         let at = (range.start, group);
-        until::Stopper::new(t.clone(), c.statistics.confidence, at, &qois, phases.len())
+        until::Stopper::new(
+            t.clone(),
+            c.statistics.confidence,
+            at,
+            &qois,
+            RowShape::of(c),
+        )
     });
     let mut meta = metadata(c, engine.name(), o.seed, o.shard);
     // What makes a run this run: a resumed run must be the same one.

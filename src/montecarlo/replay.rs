@@ -117,7 +117,7 @@ pub fn compare_row(
                 record.instance
             ))
         })?;
-    let (qois, counts, flags) = table::row_values(record, phases.len());
+    let (qois, counts, flags) = table::row_values(record, table::RowShape::of(c));
     let replayed = d
         .inputs
         .iter()

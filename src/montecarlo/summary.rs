@@ -230,6 +230,18 @@ pub fn summary_text(r: &RunReport) -> String {
 /// under a Saltelli design, warning when diverged or rejected instances broke groups.
 fn drivers(out: &mut String, r: &RunReport) {
     let s = &r.statistics;
+    let empty: Vec<&str> = SENSITIVITY_QOIS
+        .into_iter()
+        .filter(|q| find(s, q, "mean").is_some_and(|m| m.n == 0))
+        .collect();
+    if !empty.is_empty() {
+        let _ = writeln!(
+            out,
+            "no value in any valid instance (not modelled at this fidelity, or no valid instance), \
+             so no drivers: {}",
+            empty.join(", ")
+        );
+    }
     let constant: Vec<&str> = SENSITIVITY_QOIS
         .into_iter()
         .filter(|q| find(s, q, "constant").is_some())

@@ -2,8 +2,8 @@
 //! bytes do not depend on how the engine blocked the work (threads, block size, shard merge).
 
 use super::plan::InstanceRecord;
-use crate::campaign::dispersion::Dispersions;
 use crate::campaign::Campaign;
+use crate::model::params::Fidelity;
 use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
 use crate::simulate::{PhaseSummary, Summary};
 use arrow_array::{Array, BooleanArray, Float64Array, UInt64Array};
@@ -109,30 +109,69 @@ pub const FLAGS: [&str; 7] = [
     "rejected",
 ];
 
-/// What a row of instances.parquet holds for `r` after its inputs, in a campaign of `n_phases`
-/// phases: the QoI values of [`qoi_names`] (NaN = null), the [`COUNTS`] and the [`FLAGS`]. A
-/// rejected or diverged instance has no QoIs, except the time it reached, and its outcome flags
-/// are null.
-pub fn row_values(r: &InstanceRecord, n_phases: usize) -> (Vec<f64>, [u64; 2], [Option<bool>; 7]) {
+/// What the rows of a campaign hold after its inputs: its phase count (the per-phase columns)
+/// and its fidelity (the QoIs it does not model are nulls, see [`unmodelled`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowShape {
+    pub n_phases: usize,
+    pub fidelity: Fidelity,
+}
+
+impl RowShape {
+    /// The shape of `c`'s rows.
+    pub fn of(c: &Campaign) -> RowShape {
+        RowShape {
+            n_phases: c.phases.len(),
+            fidelity: c.params.fidelity,
+        }
+    }
+}
+
+/// Columns that `fidelity` does not model, null in every row (whole-mission QoIs, their
+/// per-phase columns and the outcome flag of the same name): the `homogeneous` level has no
+/// slosh analog and no stratified layer, and a zero there would read as "no slosh" or "no
+/// stratification" in statistics and in differences against a variant that models them.
+pub fn unmodelled(fidelity: Fidelity) -> &'static [&'static str] {
+    match fidelity {
+        Fidelity::Homogeneous => &[
+            "max_slosh_angle_rad",
+            "peak_slosh_force_n",
+            "peak_slosh_moment_n_m",
+            "final_stratification_k",
+            "slosh_out_of_range_fraction",
+            "slosh_out_of_range",
+        ],
+        Fidelity::Lumped | Fidelity::TwoMode => &[],
+    }
+}
+
+/// What a row of instances.parquet holds for `r` after its inputs, in a campaign of `shape`:
+/// the QoI values of [`qoi_names`] (NaN = null), the [`COUNTS`] and the [`FLAGS`]. A rejected
+/// or diverged instance has no QoIs, except the time it reached, and its outcome flags are
+/// null; what the fidelity does not model ([`unmodelled`]) is null in every row.
+pub fn row_values(r: &InstanceRecord, shape: RowShape) -> (Vec<f64>, [u64; 2], [Option<bool>; 7]) {
     let q = &r.summary;
     let invalid = r.rejected || q.diverged;
+    let missing = unmodelled(shape.fidelity);
     let mut qois: Vec<f64> = QOI_F64
         .iter()
         .map(|&(name, get)| {
-            if invalid && name != "final_time_s" {
+            if (invalid && name != "final_time_s") || missing.contains(&name) {
                 f64::NAN
             } else {
                 get(q)
             }
         })
         .collect();
-    for i in 0..n_phases {
+    for i in 0..shape.n_phases {
         let phase = q.phases.get(i).filter(|_| !invalid);
-        qois.extend(
-            PHASE_QOIS
-                .iter()
-                .map(|(_, get)| phase.map_or(f64::NAN, get)),
-        );
+        qois.extend(PHASE_QOIS.iter().map(|(name, get)| {
+            if missing.contains(name) {
+                f64::NAN
+            } else {
+                phase.map_or(f64::NAN, get)
+            }
+        }));
     }
     let counts = [COUNTS[0].1(q), COUNTS[1].1(q)];
     let outcome = |v: bool| (!invalid).then_some(v);
@@ -141,7 +180,7 @@ pub fn row_values(r: &InstanceRecord, n_phases: usize) -> (Vec<f64>, [u64; 2], [
         outcome(q.overpressure),
         outcome(q.pressurant_exhausted),
         outcome(q.depleted),
-        outcome(q.slosh_out_of_range),
+        outcome(q.slosh_out_of_range).filter(|_| !missing.contains(&"slosh_out_of_range")),
         Some(q.diverged),
         Some(r.rejected),
     ];
@@ -192,20 +231,20 @@ pub fn schema(input_columns: &[String], phases: &[String]) -> Vec<ColumnSpec> {
 pub struct InstanceWriter {
     writer: TableWriter,
     bufs: Vec<Buf>,
-    n_phases: usize,
+    shape: RowShape,
 }
 
 impl InstanceWriter {
-    /// Create the temporary file for `path` with one column per input of `d`, the QoI columns
-    /// of phases named `phases`, and `metadata` as file-level key-value metadata.
+    /// Create the temporary file for `path` with one column per dispersed input of `c`, the
+    /// QoI columns of its phases, and `metadata` as file-level key-value metadata.
     pub fn create(
         path: &Path,
-        d: &Dispersions,
-        phases: &[String],
+        c: &Campaign,
         metadata: Vec<(String, String)>,
     ) -> Result<Self, OutputError> {
+        let d = &c.dispersions;
         let input_columns: Vec<String> = d.inputs.iter().map(|i| i.column.clone()).collect();
-        let specs = schema(&input_columns, phases);
+        let specs = schema(&input_columns, &phase_names(c));
         let bufs = specs
             .iter()
             .map(|s| match s.kind {
@@ -217,7 +256,7 @@ impl InstanceWriter {
         Ok(InstanceWriter {
             writer: TableWriter::create(path, specs, metadata)?,
             bufs,
-            n_phases: phases.len(),
+            shape: RowShape::of(c),
         })
     }
 
@@ -230,7 +269,7 @@ impl InstanceWriter {
 
     /// Append one instance.
     pub fn push(&mut self, r: &InstanceRecord) -> Result<(), OutputError> {
-        let (qois, counts, flags) = row_values(r, self.n_phases);
+        let (qois, counts, flags) = row_values(r, self.shape);
         let mut f64s = r.inputs.iter().copied().chain(qois);
         let mut flag = flags.iter();
         let mut u64s = std::iter::once(r.instance).chain(counts);

@@ -5,7 +5,7 @@
 //! size or backend timing.
 
 use super::plan::InstanceRecord;
-use super::table::row_values;
+use super::table::{row_values, RowShape};
 use crate::campaign::statistics::{Side, Target, TargetEstimate};
 use crate::stats::{exceedance, quantile_interval, Direction};
 
@@ -31,10 +31,10 @@ pub struct Stopper {
     pub target: Target,
     confidence: f64,
     /// The target quantity's column among the QoIs of `table::qoi_names`, its name and the
-    /// campaign's phase count (the row layout).
+    /// campaign's row layout.
     column: usize,
     quantity: String,
-    n_phases: usize,
+    shape: RowShape,
     /// Its values in instance order (NaN: rejected, diverged or missing).
     values: Vec<f64>,
     /// Instances between checks (a multiple of the Saltelli group size when there is one).
@@ -48,14 +48,14 @@ pub struct Stopper {
 impl Stopper {
     /// A stopper for a run starting at instance `start`; `group` is the Saltelli group size (1
     /// for other designs), to which the check interval is rounded up. `None` when the target
-    /// names none of the QoI columns `qois` (of `table::qoi_names` for `n_phases` phases; the
-    /// caller validated that already).
+    /// names none of the QoI columns `qois` (of `table::qoi_names` for the phases of `shape`;
+    /// the caller validated that already).
     pub fn new(
         target: Target,
         confidence: f64,
         (start, group): (u64, u64),
         qois: &[String],
-        n_phases: usize,
+        shape: RowShape,
     ) -> Option<Stopper> {
         let quantity = match &target.estimate {
             TargetEstimate::Probability(t) => t.quantity.clone(),
@@ -69,7 +69,7 @@ impl Stopper {
             confidence,
             column,
             quantity,
-            n_phases,
+            shape,
             values: Vec::new(),
             every,
             next: start + every,
@@ -96,8 +96,7 @@ impl Stopper {
     /// Record a block of records (in instance order).
     pub fn observe(&mut self, block: &[InstanceRecord]) {
         for r in block {
-            self.values
-                .push(row_values(r, self.n_phases).0[self.column]);
+            self.values.push(row_values(r, self.shape).0[self.column]);
         }
     }
 

@@ -36,7 +36,7 @@ pub(crate) fn escape(s: &str) -> String {
 }
 
 /// A value with six significant digits (`–` for none).
-fn num(v: f64) -> String {
+pub(crate) fn num(v: f64) -> String {
     if !v.is_finite() {
         return "–".into();
     }
@@ -57,7 +57,8 @@ fn num(v: f64) -> String {
     }
 }
 
-const STYLE: &str = "body{font-family:sans-serif;font-size:16px;line-height:1.4;margin:24px;\
+pub(crate) const STYLE: &str =
+    "body{font-family:sans-serif;font-size:16px;line-height:1.4;margin:24px;\
 color:#111;max-width:1600px}h1{font-size:26px}h2{font-size:22px;margin-top:36px;\
 border-bottom:2px solid #0072B2}h3{font-size:18px;margin-top:24px}table{border-collapse:collapse;\
 margin:8px 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}th{background:#eef4f8}\

@@ -2,7 +2,8 @@
 //! static `index.html` with SVG plots beside it (no network, no script): the run's header, each
 //! QoI's histogram and exceedance curve with the campaign's thresholds and the statistics
 //! file's quantiles, the sensitivities, every probability, and the worst instances' time
-//! histories re-simulated by exact replay.
+//! histories re-simulated by exact replay. A run with `[[variants]]` gets one report per
+//! variant and a front page comparing them (`variants.rs`).
 //!
 //! Memory stays bounded by one instances column at a time (and its sorted copy): QoIs are read,
 //! drawn and dropped one after another; everything else comes from `statistics.parquet`. The
@@ -13,6 +14,7 @@ pub mod data;
 mod html;
 pub mod plots;
 mod sensitivity;
+pub mod variants;
 mod worst;
 
 use crate::output::results_dir::{ResultsDirError, Staging};
@@ -116,8 +118,12 @@ pub(crate) fn file_stem(column: &str) -> String {
         .collect()
 }
 
-/// Write the report of the results directory `dir`.
+/// Write the report of the results directory `dir` (of a run with `[[variants]]`: each
+/// variant's report and the front page of [`variants::report_variants`]).
 pub fn report(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary, ReportError> {
+    if crate::montecarlo::variants::is_variants_dir(dir) {
+        return variants::report_variants(dir, opts);
+    }
     let info = data::run_info(dir)?;
     let stats = data::statistics(dir)?;
     let out = opts.out.clone().unwrap_or_else(|| dir.join("report"));
