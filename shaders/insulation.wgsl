@@ -47,7 +47,8 @@ fn mli_flux(k: MliCoeffs, t_hot: f32, t_cold: f32) -> vec3<f32> {
         + k.gas * MLI_GAS_EXPONENT * gh / th;
     let dq_dc = k.solid * (half_slope - f) - k.radiation * MLI_RADIATION_EXPONENT * rc / tc
         - k.gas * MLI_GAS_EXPONENT * gc / tc;
-    return vec3<f32>(q, dq_dh, dq_dc);
+    return vec3<f32>(q, select(dq_dh, 0.0, t_hot < MIN_INSULATION_TEMPERATURE_K),
+        select(dq_dc, 0.0, t_cold < MIN_INSULATION_TEMPERATURE_K));
 }
 
 /// What the surroundings deliver to the outer surface at t (W/m²) and its slope.
@@ -74,7 +75,11 @@ fn ins_safeguarded(x: f32, r: f32, slope: f32, increasing: bool, lo: ptr<functio
 
 /// Outer temperature at which the surroundings deliver q, and the slope there.
 fn ins_outer_temperature(e: Surroundings, q: f32, t_lo: f32, t_hi: f32) -> vec2<f32> {
-    var t = t_hi;
+    let excess = e.absorbed - q;
+    let a = e.t_air + excess / max(e.h, 1.0e-30);
+    let b = sqrt(sqrt(max(e.t_rad4 + excess / e.eps_sigma, 0.0)));
+    let t_rad = sqrt(sqrt(e.t_rad4));
+    var t = min(max(min(max(a, t_rad), max(e.t_air, b)), t_lo), t_hi);
     for (var i = 0u; i < INSULATION_INNER_ITERATIONS; i++) {
         let g = surroundings_flux(e, t);
         t = min(max(t - (g.x - q) / min(g.y, -1.0e-12), t_lo), t_hi);
@@ -94,7 +99,7 @@ fn insulation_leak(has_mli: bool, r_foam: f32, k: MliCoeffs, e: Surroundings, t_
         var lo = t_lo;
         var hi = t_hi;
         var t = t_hi;
-        for (var i = 0u; i < INSULATION_OUTER_ITERATIONS; i++) {
+        for (var i = 0u; i < INSULATION_FOAM_ITERATIONS; i++) {
             let g = surroundings_flux(e, t);
             let r = conductance * (t - t_wall) - g.x;
             t = ins_safeguarded(t, r, conductance - g.y, true, &lo, &hi);

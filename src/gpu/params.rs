@@ -572,6 +572,10 @@ pub fn constants_wgsl() -> String {
             "INSULATION_INNER_ITERATIONS",
             crate::model::insulation::INNER_ITERATIONS,
         ),
+        (
+            "INSULATION_FOAM_ITERATIONS",
+            crate::model::insulation::FOAM_ITERATIONS,
+        ),
         ("EXC_NONE", exc::NONE),
         ("EXC_STEP", exc::STEP),
         ("EXC_RAMP", exc::RAMP),

@@ -34,13 +34,15 @@ pub const MLI_DEFAULT_EMISSIVITY: f64 = 0.031;
 /// Lowest temperature the correlations are evaluated at, K (a cold sink can pull a trial
 /// interface temperature towards 0 K during the iteration).
 pub const MIN_INSULATION_TEMPERATURE_K: f64 = 1.0;
-/// Safeguarded Newton steps on the heat flux through the blanket (or on the outer temperature
-/// of bare foam). Ten reach the f64 round-off over layer counts 1–1000, densities 1–100 /cm,
+/// Safeguarded Newton steps on the heat flux through the blanket. Ten reach the f64 round-off over layer counts 1–1000, densities 1–100 /cm,
 /// foam 0.1 mm–0.3 m, convection 0–1000 W/(m²·K) and sinks 0–400 K (tests/insulation.rs).
 pub const OUTER_ITERATIONS: u32 = 10;
 /// Newton steps inverting the surroundings' flux for the outer temperature in each outer step
-/// (from the warm end of the bracket, where the concave flux makes them monotone).
+/// (from an upper bound of the root, where the concave flux makes them monotone).
 pub const INNER_ITERATIONS: u32 = 12;
+/// Safeguarded Newton steps on the outer temperature of bare foam (no blanket): polynomial
+/// only, so more of them are cheap; 16 reach the round-off from the warm end on the same grid.
+pub const FOAM_ITERATIONS: u32 = 20;
 
 /// Spray-on foam bonded to the wall: 1-D conduction with a constant conductivity.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -137,7 +139,13 @@ pub fn mli_flux<T: Real>(k: &MliCoefficients<T>, t_hot_k: T, t_cold_k: T) -> (T,
     let dq_dc = k.solid * (half_slope - f)
         - k.radiation * MLI_RADIATION_EXPONENT * rc / tc
         - k.gas * MLI_GAS_EXPONENT * gc / tc;
-    (q, dq_dh, dq_dc)
+    // Where a face is held at the floor temperature the flux does not move with it.
+    let floor = c(MIN_INSULATION_TEMPERATURE_K);
+    (
+        q,
+        T::select(t_hot_k.lt(floor), c(0.0), dq_dh),
+        T::select(t_cold_k.lt(floor), c(0.0), dq_dc),
+    )
 }
 
 /// What the surroundings deliver to the outer surface at temperature T, W/m²:
@@ -212,10 +220,20 @@ fn safeguarded<T: Real>(x: T, r: T, slope: T, increasing: bool, lo: &mut T, hi: 
 }
 
 /// Outer surface temperature at which the surroundings deliver `q` (W/m²), and dg/dT there:
-/// Newton from the warm end `t_hi` (g is concave and decreasing, so the steps approach the
-/// root from above), kept in [t_lo, t_hi].
+/// Newton from an upper bound of the root (g is concave and decreasing, so the steps approach
+/// it from above), kept in [t_lo, t_hi]. The bound is the smaller of max(A, T_rad) and
+/// max(T_air, B), A the root of the convective and absorbed terms alone and B that of the
+/// radiative and absorbed terms (exact without convection, as in space): at either both
+/// parts of g − q are ≤ 0.
 fn outer_temperature<T: Real>(env: &Surroundings<T>, q: T, t_lo: T, t_hi: T) -> (T, T) {
-    let mut t = t_hi;
+    let excess = env.absorbed_w_per_m2 - q;
+    let a = env.t_air_k + excess / env.h_w_per_m2_k.max_c(1.0e-30);
+    let b = (env.t_rad4_k4 + excess / env.eps_sigma)
+        .max_c(0.0)
+        .sqrt()
+        .sqrt();
+    let t_rad = env.t_rad4_k4.sqrt().sqrt();
+    let mut t = a.max(t_rad).min(env.t_air_k.max(b)).max(t_lo).min(t_hi);
     for _ in 0..INNER_ITERATIONS {
         let (g, slope) = env.flux(t);
         t = (t - (g - q) / slope.min_c(-1.0e-12)).max(t_lo).min(t_hi);
@@ -239,7 +257,7 @@ pub fn leak<T: Real>(stack: &Stack<T>, env: &Surroundings<T>, t_wall_k: T) -> Le
     let Some(mli) = stack.mli else {
         let conductance = r_foam.rdiv(1.0);
         let (mut lo, mut hi, mut t) = (t_lo, t_hi, t_hi);
-        for _ in 0..OUTER_ITERATIONS {
+        for _ in 0..FOAM_ITERATIONS {
             let (g, slope) = env.flux(t);
             let r = conductance * (t - t_wall_k) - g;
             t = safeguarded(t, r, conductance - slope, true, &mut lo, &mut hi);
