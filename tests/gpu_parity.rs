@@ -391,7 +391,7 @@ fn gpu_matches_cpu_with_insulation() {
     let Some(gpu) = engine() else { return };
     let cpu = CpuEngine::new(0).unwrap();
     let n = 24;
-    let mut run = |name: &str, c: &cryoslosh::campaign::Campaign, level: &str| {
+    let run = |name: &str, c: &cryoslosh::campaign::Campaign, level: &str| {
         let plan = Plan {
             campaign: c,
             seed: c.seed,

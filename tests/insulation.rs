@@ -15,10 +15,13 @@ use std::process::Command;
 /// code or constants): Johnson, W. L., "Thermal Performance of Cryogenic Multilayer Insulation
 /// at Various Layer Spacings", NASA/TM-2010-216956 (after Keller, Cunnington & Glassford 1974,
 /// LMSC-D349866 / NASA CR-134477; the form used for the MHTB blanket, Hastings et al.):
+///
+/// ```text
 /// q = C_s f(T_m) N̄^2.63 (T_h − T_c)/(N_s + 1) + C_r ε (T_h^4.67 − T_c^4.67)/N_s
 ///   + C_g P (T_h^0.52 − T_c^0.52)/N_s,
 /// f(T_m) = 0.017 + 7e-6 (800 − T_m) + 0.0228 ln T_m, T_m = (T_h + T_c)/2,
 /// C_s = 2.4e-4, C_r = 4.944e-10, C_g = 14 600, N̄ in layers/cm, P in torr, q in W/m².
+/// ```
 fn lockheed(th: f64, tc: f64, ns: f64, nbar: f64, p_torr: f64, eps: f64) -> f64 {
     let tm = (th + tc) / 2.0;
     let f = 0.017 + 7.0e-6 * (800.0 - tm) + 0.0228 * tm.ln();
