@@ -1,6 +1,6 @@
 // Heat leak through the tank's insulation in f32: the WGSL mirror of src/model/insulation.rs
 // (foam and multilayer blanket in series, the outer surface's steady balance with the ground or
-// space surroundings). Pure functions of their arguments, so tests/gpu_props.rs evaluates them
+// space surroundings). Pure functions of their arguments, so tests/gpu_insulation.rs evaluates them
 // against the Rust ones; closures.wgsl (wall_heat) feeds them the instance's parameters. The
 // constants (iteration counts, exponents, floor temperature) are generated from the Rust ones
 // (src/gpu/params.rs). Change one, change both.

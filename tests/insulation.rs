@@ -392,3 +392,31 @@ fn bad_insulation_input_names_key_and_range() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The insulation solve in lockstep lanes (`Lanes`, the CPU engine) is the `f64` solve lane by
+/// lane: a group of dispersed instances (different degradation, foam conductivity and absorbed
+/// flux per lane) gives the one-at-a-time records bit for bit on every level.
+#[test]
+fn insulated_lane_groups_equal_one_at_a_time() {
+    use cryoslosh::lanes::WIDTH;
+    use cryoslosh::montecarlo::plan::Plan;
+    for level in LEVELS {
+        let c = load(
+            "lh2_insulated",
+            &[
+                &format!("campaign.fidelity={level}"),
+                "phases.coast.duration_s=600",
+            ],
+        );
+        let plan = Plan {
+            campaign: &c,
+            seed: 11,
+            total: WIDTH as u64,
+        };
+        let lanes = plan.run_lanes(0..WIDTH as u64);
+        for (i, l) in lanes.iter().enumerate() {
+            let single = plan.run_instance(i as u64);
+            assert_eq!(format!("{l:?}"), format!("{single:?}"), "{level}: lane {i}");
+        }
+    }
+}
