@@ -209,6 +209,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     let got: Vec<f32> = bytemuck::cast_slice(&view).to_vec();
 
     let (mut worst_q, mut worst_t, mut worst_mli) = (0.0_f64, 0.0_f64, 0.0_f64);
+    let mut worst_case = String::new();
     for (i, c) in cases.iter().enumerate() {
         let f = f64::from;
         let k = MliCoefficients {
@@ -232,7 +233,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
         let scale = rust.flux_w_per_m2.abs().max(1e-3);
         let eq = (f(got[3 * i]) - rust.flux_w_per_m2).abs() / scale;
         let et = (f(got[3 * i + 1]) - rust.t_outer_k).abs() / rust.t_outer_k;
-        worst_q = worst_q.max(if eq.is_nan() { f64::INFINITY } else { eq });
+        let eq = if eq.is_nan() { f64::INFINITY } else { eq };
+        if eq > worst_q {
+            worst_case = format!(
+                "{c:?}: gpu {} W/m² at {} K, rust {} W/m² at {} K",
+                got[3 * i],
+                got[3 * i + 1],
+                rust.flux_w_per_m2,
+                rust.t_outer_k
+            );
+        }
+        worst_q = worst_q.max(eq);
         worst_t = worst_t.max(if et.is_nan() { f64::INFINITY } else { et });
         if c.has_mli != 0 {
             let m = mli_flux(&k, 293.0, f(c.t_wall)).0;
@@ -244,6 +255,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
         "insulation: {} cases, max rel err: leak {worst_q:.2e}, outer temperature {worst_t:.2e}, MLI flux {worst_mli:.2e}",
         cases.len()
     );
+    println!("largest leak difference: {worst_case}");
     assert!(worst_mli < 2e-5, "MLI flux {worst_mli:e}");
     assert!(worst_q < 1e-3, "leak {worst_q:e}");
     assert!(worst_t < 1e-5, "outer temperature {worst_t:e}");
