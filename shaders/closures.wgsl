@@ -185,16 +185,63 @@ fn slosh_angle_rate(s: ptr<function, St>, x: Derived) -> f32 {
     return (*s)[Q1D];
 }
 
-fn wall_rates(x: Derived, q_wet: f32, q_dry: f32, dv_liquid: f32, ds: ptr<function, St>) {
+/// Heat into each wall node from outside (insulation::WallHeat): dry and wetted (W), their
+/// total (W), and each over its node's heat capacity (K/s).
+struct WallHeat {
+    dry: f32,
+    wet: f32,
+    total: f32,
+    warming_dry: f32,
+    warming_wet: f32,
+}
+
+/// The fixed heat leak shared by area, or with [insulation] the steady flux at each wall node's
+/// temperature times its share of the wall area (insulation::wall_heat).
+fn wall_heat(d: Drive, x: Derived) -> WallHeat {
+    let c_wall = P.wall_areal_mass * tank_wall_area() * P.wall_cp;
+    var w: WallHeat;
+    if ((P.flags & FLAG_INSULATION) == 0u) {
+        let q = P.heat_leak_w;
+        w.dry = q * (1.0 - x.wet);
+        w.wet = q * x.wet;
+        w.total = q;
+        w.warming_dry = q / c_wall;
+        w.warming_wet = q / c_wall;
+        return w;
+    }
+    var k: MliCoeffs;
+    k.solid = P.ins_mli_solid;
+    k.radiation = P.ins_mli_radiation;
+    k.gas = P.ins_mli_gas;
+    var e: Surroundings;
+    let t_rad = select(P.ins_ground_t, P.ins_space_t, d.space);
+    let t_rad2 = t_rad * t_rad;
+    e.h = select(P.ins_ground_h, 0.0, d.space);
+    e.t_air = t_rad;
+    e.t_rad4 = t_rad2 * t_rad2;
+    e.absorbed = select(0.0, P.ins_space_absorbed, d.space);
+    e.eps_sigma = P.ins_eps_sigma;
+    let has_mli = (P.flags & FLAG_MLI) != 0u;
+    let area = tank_wall_area();
+    let dry = insulation_leak(has_mli, P.ins_foam_resistance, k, e, x.t_wd).q * area;
+    let wet = insulation_leak(has_mli, P.ins_foam_resistance, k, e, x.t_ww).q * area;
+    w.dry = dry * (1.0 - x.wet);
+    w.wet = wet * x.wet;
+    w.total = w.dry + w.wet;
+    w.warming_dry = dry / c_wall;
+    w.warming_wet = wet / c_wall;
+    return w;
+}
+
+fn wall_rates(x: Derived, env: WallHeat, q_wet: f32, q_dry: f32, dv_liquid: f32, ds: ptr<function, St>) {
     let dz = dv_liquid / max(tank_cross_section_area(x.level), 1.0e-9);
     let m_wall = P.wall_areal_mass * tank_wall_area();
     let dshare = x.wet_slope * dz;
     let t_moving = select(x.t_wd, x.t_ww, dshare < 0.0);
     let handover = m_wall * dshare * P.wall_cp * t_moving;
-    let q_env = P.heat_leak_w;
-    (*ds)[E_WD] = q_env * (1.0 - x.wet) - q_dry - handover;
-    (*ds)[E_WW] = q_env * x.wet - q_wet + handover;
-    (*ds)[E_ENV] = q_env;
+    (*ds)[E_WD] = env.dry - q_dry - handover;
+    (*ds)[E_WW] = env.wet - q_wet + handover;
+    (*ds)[E_ENV] = env.total;
 }
 
 fn boundary_ledger(b: Bnd, h_press: f32, h_u: f32, e_out: f32, ds: ptr<function, St>) {

@@ -2,7 +2,7 @@
 // src/model/. This file: the bindings and per-invocation globals, the trajectory (flight.rs) and
 // the slosh analog's damping (slosh.rs; its modes are shaders/slosh_modes.wgsl in the property
 // library). Then derive.wgsl (derive.rs, homogeneous.rs), closures.wgsl
-// (thermal.rs, boundary.rs), rhs.wgsl (nodes.rs), observe.wgsl (model/mod.rs and the
+// (thermal.rs, boundary.rs; insulation.wgsl before it: insulation.rs), rhs.wgsl (nodes.rs), observe.wgsl (model/mod.rs and the
 // observation in src/simulate/), and the stepping loop (rk4.wgsl or adaptive.wgsl). Change one,
 // change both; tests/gpu_parity.rs checks.
 //
@@ -39,6 +39,7 @@ struct Drive {
     a_ax_extra: f32,
     pressurize: bool,
     valve_open: bool,
+    space: bool,
 }
 
 fn table_interp(ph: GpuPhase, col: u32, t: f32) -> f32 {
@@ -126,6 +127,7 @@ fn phase_drive(ph: GpuPhase, t: f32, valve_open: bool) -> Drive {
     d.a_ax_extra = a.y;
     d.pressurize = ph.pressurize != 0u;
     d.valve_open = valve_open;
+    d.space = ph.space != 0u;
     return d;
 }
 

@@ -144,15 +144,15 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let bulk_gone = (*s)[M_B] <= 0.0;
     let c_bulk = max(select((*s)[M_B], (*s)[M_S], bulk_gone), 1.0e-9) * liq.cp;
-    let warming = P.heat_leak_w / c_wall;
-    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b, warming);
+    let env = wall_heat(d, x);
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_bulk, x.t_ww - t_b, env.warming_wet);
     let depth = x.v_s / a_i;
     let a_ws = clamp(a_wet - tank_wetted_area(x.level - depth), 0.0, a_wet);
     let contact = a_ws / max(a_wet, 1.0e-12);
     let to_layer = select(contact + P.wall_heat_to_layer * (1.0 - contact), 1.0, bulk_gone);
     let q_ws = to_layer * q_wl;
     let q_wb = (1.0 - to_layer) * q_wl;
-    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas, x.t_wd - t_u, warming);
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_gas, x.t_wd - t_u, env.warming_dry);
 
     var h_us = P.h_us;
     if ((P.flags & FLAG_H_US) == 0u) {
@@ -238,7 +238,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     (*ds)[U_U] = r[3];
     let rs = vec2<f32>(r[2], r[4]);
 
-    wall_rates(x, q_wl, q_wu, rs.y + rb.y, ds);
+    wall_rates(x, env, q_wl, q_wu, rs.y + rb.y, ds);
     boundary_ledger(b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     (*ds)[E_WORK] = -pu * dv_slosh;
     return force;
@@ -260,9 +260,9 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let h_wu = h_w.y;
     let c_wall = P.wall_areal_mass * a_tot * P.wall_cp;
     let c_fluid = x.m_l * liq.cp + m_u * cv_vapor;
-    let warming = P.heat_leak_w / c_wall;
-    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_fluid, x.t_ww - t, warming);
-    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid, x.t_wd - t, warming);
+    let env = wall_heat(d, x);
+    let q_wl = wall_exchange(h_wl * a_wet, dt, c_wall * x.wet, c_fluid, x.t_ww - t, env.warming_wet);
+    let q_wu = wall_exchange(h_wu * a_dry, dt, c_wall * (1.0 - x.wet), c_fluid, x.t_wd - t, env.warming_dry);
 
     var sv = *s;
     sv[M_V] = x.m_v;
@@ -277,7 +277,7 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - b.y);
     (*ds)[H_B] = q_wl + q_wu + b.press * h_press - b.vent * h_u - b.out * h_l;
     let force = motion_rates(s, d, x, ds);
-    wall_rates(x, q_wl, q_wu, (*ds)[M_B] / rho, ds);
+    wall_rates(x, env, q_wl, q_wu, (*ds)[M_B] / rho, ds);
     boundary_ledger(b, h_press, h_u, b.out * h_l, ds);
     return force;
 }

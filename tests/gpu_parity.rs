@@ -382,3 +382,49 @@ fn gpu_matches_cpu_when_the_bulk_merges() {
         assert_eq!(a.relief_cycles, b.relief_cycles);
     }
 }
+
+/// `[insulation]` (issue 17, `shaders/insulation.wgsl`): the shipped insulated campaign (foam
+/// and blanket, a ground hold and flight in space) at every level, and the same tank with bare
+/// foam (the other branch of the solve), on both backends.
+#[test]
+fn gpu_matches_cpu_with_insulation() {
+    let Some(gpu) = engine() else { return };
+    let cpu = CpuEngine::new(0).unwrap();
+    let n = 24;
+    let run = |name: &str, c: &cryoslosh::campaign::Campaign, level: &str| {
+        let plan = Plan {
+            campaign: c,
+            seed: c.seed,
+            total: n,
+        };
+        let (a, b) = (
+            cpu.run_block(&plan, 0..n).unwrap(),
+            gpu.run_block(&plan, 0..n).unwrap(),
+        );
+        compare(name, level, &a, &b);
+    };
+    for level in LEVELS {
+        let c = load("lh2_insulated", &[&format!("campaign.fidelity={level}")]);
+        run("lh2_insulated", &c, level);
+    }
+    // Bare foam: the blanket's keys and its dispersion taken out of the shipped file.
+    let text: String = std::fs::read_to_string(common::campaign_path("lh2_insulated"))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with("mli_"))
+        .map(|l| {
+            l.replace(
+                "insulation.mli_degradation_factor",
+                "insulation.ground_convection_w_per_m2_k",
+            ) + "\n"
+        })
+        .collect();
+    let dir = std::env::temp_dir().join(format!("cryoslosh-foam-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("foam_only.toml");
+    std::fs::write(&file, text).unwrap();
+    let c = cryoslosh::campaign::Campaign::load(&file, &[]).unwrap();
+    assert!(c.params.insulation.unwrap().mli.is_none());
+    run("foam_only", &c, "lumped");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -68,6 +68,83 @@ fn excitation(c: &Campaign, i: usize, e: &Excitation) -> String {
     }
 }
 
+/// `[insulation]`: the stack, the surroundings, and the steady leak at the initial wall
+/// temperature `t_wall_k` in either environment.
+fn insulation_lines(p: &crate::model::params::Params, t_wall_k: f64) -> String {
+    use crate::model::flight::Environment;
+    let Some(ins) = p.insulation else {
+        return String::new();
+    };
+    let mut layers = Vec::new();
+    if let Some(f) = ins.foam {
+        layers.push(kv("foam_thickness_m", f.thickness_m, "m"));
+        layers.push(kv(
+            "foam_conductivity_w_per_m_k",
+            f.conductivity_w_per_m_k,
+            "W/(m·K)",
+        ));
+    }
+    if let Some(m) = ins.mli {
+        layers.push(kv("mli_layers", m.layers, ""));
+        layers.push(kv(
+            "mli_layer_density_per_cm",
+            m.layer_density_per_cm,
+            "/cm",
+        ));
+        layers.push(kv(
+            "mli_interstitial_pressure_torr",
+            m.interstitial_pressure_torr,
+            "torr",
+        ));
+        layers.push(kv("mli_shield_emissivity", m.shield_emissivity, ""));
+        layers.push(kv("mli_degradation_factor", m.degradation_factor, ""));
+    }
+    let mut o = format!(
+        "insulation: {}, {}, {}, {}, {}, {}, {}\n",
+        layers.join(", "),
+        kv(
+            "ground_ambient_temperature_k",
+            ins.ground_ambient_temperature_k,
+            "K"
+        ),
+        kv(
+            "ground_convection_w_per_m2_k",
+            ins.ground_convection_w_per_m2_k,
+            "W/(m²·K)"
+        ),
+        kv(
+            "space_sink_temperature_k",
+            ins.space_sink_temperature_k,
+            "K"
+        ),
+        kv(
+            "space_incident_flux_w_per_m2",
+            ins.space_incident_flux_w_per_m2,
+            "W/m²"
+        ),
+        kv("outer_emissivity", ins.outer_emissivity, ""),
+        kv("outer_absorptivity", ins.outer_absorptivity, ""),
+    );
+    let area = p.tank.wall_area_m2();
+    for env in [Environment::Ground, Environment::Space] {
+        let leak = ins.leak(env, t_wall_k);
+        o += &format!(
+            "  derived ({}, wall at {} K): outer surface {} K, heat leak {} W/m² = {} W\n",
+            env.name(),
+            n4(t_wall_k),
+            n4(leak.t_outer_k),
+            number(leak.flux_w_per_m2),
+            number(leak.flux_w_per_m2 * area),
+        );
+    }
+    o
+}
+
+/// A temperature to 4 significant digits.
+fn n4(v: f64) -> String {
+    number(format!("{v:.3e}").parse().unwrap_or(v))
+}
+
 /// The resolved nominal: every input with its default filled in, plus the derived initial state.
 pub fn describe(c: &Campaign) -> String {
     let p = &c.params;
@@ -122,12 +199,16 @@ pub fn describe(c: &Campaign) -> String {
     if tank.shape() == Shape::Capsule {
         size.push(kv("dome_ratio", tank.dome_ratio(), ""));
     }
+    let leak = match p.insulation {
+        Some(_) => "heat_leak_w from [insulation]".to_string(),
+        None => kv("heat_leak_w", p.heat_leak_w, "W"),
+    };
     let _ = writeln!(
         o,
         "tank: shape {}, {}, {}, {}, {wall_cp}, {}",
         tank.shape().name(),
         size.join(", "),
-        kv("heat_leak_w", p.heat_leak_w, "W"),
+        leak,
         kv(
             "wall_areal_mass_kg_per_m2",
             p.wall_areal_mass_kg_per_m2,
@@ -135,17 +216,30 @@ pub fn describe(c: &Campaign) -> String {
         ),
         kv("meop_pa", p.meop_pa, "Pa"),
     );
-    let _ = writeln!(
-        o,
-        "  derived: height {} m, volume {} m³, wall {} m² ({} kg, {} J/K); heat leak {} W = {} W/m² of wall",
-        n(tank.height_m()),
-        n(tank.volume_m3()),
-        n(tank.wall_area_m2()),
-        n(p.wall_mass_kg()),
-        n(p.wall_heat_capacity_j_per_k()),
-        n(p.heat_leak_w),
-        n(p.heat_leak_w / tank.wall_area_m2()),
-    );
+    if p.insulation.is_none() {
+        let _ = writeln!(
+            o,
+            "  derived: height {} m, volume {} m³, wall {} m² ({} kg, {} J/K); heat leak {} W = {} W/m² of wall",
+            n(tank.height_m()),
+            n(tank.volume_m3()),
+            n(tank.wall_area_m2()),
+            n(p.wall_mass_kg()),
+            n(p.wall_heat_capacity_j_per_k()),
+            n(p.heat_leak_w),
+            n(p.heat_leak_w / tank.wall_area_m2()),
+        );
+    } else {
+        let _ = writeln!(
+            o,
+            "  derived: height {} m, volume {} m³, wall {} m² ({} kg, {} J/K)",
+            n(tank.height_m()),
+            n(tank.volume_m3()),
+            n(tank.wall_area_m2()),
+            n(p.wall_mass_kg()),
+            n(p.wall_heat_capacity_j_per_k()),
+        );
+        o += &insulation_lines(p, x.t_wall_wet_k);
+    }
 
     // [propellant], [ullage]
     let t_sat = f.tsat_k(p.ullage_pressure_pa.min(f.psat_pa(f.t_max_k)));
@@ -382,6 +476,9 @@ pub fn describe(c: &Campaign) -> String {
             ph.pressurize,
             excitation(c, i, &ph.excitation),
         );
+        if p.insulation.is_some() {
+            let _ = writeln!(o, "    environment {}", ph.environment.name());
+        }
         t += ph.duration_s;
     }
 

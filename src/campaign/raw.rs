@@ -18,6 +18,7 @@ pub struct RawCampaign {
     pub slosh: RawSlosh,
     pub pressurization: Option<RawPressurization>,
     pub relief: Option<RawRelief>,
+    pub insulation: Option<RawInsulation>,
     #[serde(default)]
     pub engine: RawEngine,
     #[serde(default)]
@@ -54,7 +55,8 @@ pub struct RawTank {
     pub radius_m: f64,
     pub cylinder_length_m: Option<f64>,
     pub dome_ratio: Option<f64>,
-    pub heat_leak_w: f64,
+    /// Required without `[insulation]`; ignored with it.
+    pub heat_leak_w: Option<f64>,
     pub wall_areal_mass_kg_per_m2: Option<f64>,
     pub wall_cp_j_per_kg_k: Option<f64>,
     pub meop_pa: f64,
@@ -137,6 +139,24 @@ pub struct RawRelief {
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
+pub struct RawInsulation {
+    pub foam_thickness_m: Option<f64>,
+    pub foam_conductivity_w_per_m_k: Option<f64>,
+    pub mli_layers: Option<f64>,
+    pub mli_layer_density_per_cm: Option<f64>,
+    pub mli_interstitial_pressure_torr: Option<f64>,
+    pub mli_shield_emissivity: Option<f64>,
+    pub mli_degradation_factor: Option<f64>,
+    pub ground_ambient_temperature_k: Option<f64>,
+    pub ground_convection_w_per_m2_k: Option<f64>,
+    pub space_sink_temperature_k: Option<f64>,
+    pub space_incident_flux_w_per_m2: Option<f64>,
+    pub outer_emissivity: Option<f64>,
+    pub outer_absorptivity: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
 pub struct RawEngine {
     pub isp_s: Option<f64>,
     pub propellant_fraction: Option<f64>,
@@ -173,6 +193,7 @@ pub struct RawPhase {
     pub flight_path_angle_deg: Option<f64>,
     pub gravity_m_s2: Option<f64>,
     pub pressurize: Option<bool>,
+    pub environment: Option<String>,
     pub excitation: Option<RawExcitation>,
 }
 

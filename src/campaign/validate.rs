@@ -5,11 +5,12 @@ use super::raw::*;
 use super::{Campaign, CampaignError, Integrator, Stepping, DEFAULT_ATOL, DEFAULT_RTOL};
 use crate::fluids::Fluid;
 use crate::geometry::{Shape, Tank};
-use crate::model::flight::{Excitation, Phase, PhaseKind, G0};
+use crate::model::flight::{Environment, Excitation, Phase, PhaseKind, G0};
 use crate::model::params::*;
 use std::path::Path;
 
 mod composition;
+mod insulation;
 
 /// Smallest tank radius accepted, m: below it the wall area and the slosh parameters lose
 /// their meaning (a 1e-300 m tank passed `check` with a NaN wall).
@@ -156,7 +157,20 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         _ => 1.0,
     };
     let tank = Tank::new(shape, radius, length, dome);
-    let heat_leak_w = c.range("tank.heat_leak_w", t.heat_leak_w, 0.0, 1.0e7)?;
+    let insulation = insulation::insulation(&c, raw.insulation.as_ref())?;
+    // With [insulation] the fixed leak is not used (a variant may add the section to a campaign
+    // that has one); without it the key is required.
+    let heat_leak_w = match (t.heat_leak_w, &insulation) {
+        (Some(q), _) => c.range("tank.heat_leak_w", q, 0.0, 1.0e7)?,
+        (None, Some(_)) => 0.0,
+        (None, None) => {
+            return Err(c.err(
+                "tank.heat_leak_w",
+                "(missing)",
+                "a heat leak in [0, 1e7] W, or an [insulation] section",
+            ))
+        }
+    };
     let wall_mass = c.opt_range(
         "tank.wall_areal_mass_kg_per_m2",
         t.wall_areal_mass_kg_per_m2,
@@ -524,6 +538,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         fluid,
         tank,
         heat_leak_w,
+        insulation,
         wall_areal_mass_kg_per_m2: wall_mass,
         wall_cp_j_per_kg_k: wall_cp,
         meop_pa,
@@ -709,6 +724,12 @@ fn phase(
         -90.0,
         90.0,
     )?;
+    let environment = match ph.environment.as_deref() {
+        None => Environment::of_kind(kind),
+        Some("ground") => Environment::Ground,
+        Some("space") => Environment::Space,
+        Some(other) => return Err(c.err(&key("environment"), other, "ground | space")),
+    };
     let excitation = match &ph.excitation {
         None => Excitation::None,
         Some(e) => excitation(c, &format!("phases.{i}.excitation"), e, dir)?,
@@ -731,6 +752,7 @@ fn phase(
         gravity_m_s2: gravity,
         excitation,
         pressurize: ph.pressurize.unwrap_or(true),
+        environment,
     })
 }
 

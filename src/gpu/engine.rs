@@ -27,7 +27,7 @@ use wgpu::util::DeviceExt;
 const WORKGROUP: u32 = 64;
 
 /// The whole kernel source for `integrator`: generated constants and structs, the physics and
-/// observation (`shaders/model.wgsl`, `derive.wgsl`, `closures.wgsl`, `rhs.wgsl`,
+/// observation (`shaders/model.wgsl`, `derive.wgsl`, `insulation.wgsl`, `closures.wgsl`, `rhs.wgsl`,
 /// `observe.wgsl`), then the stepping loop (`shaders/rk4.wgsl` with entry
 /// point `main`, or `shaders/adaptive.wgsl` with `main_dopri5`). One module per integrator: a
 /// driver that compiles the whole module for each entry point (llvmpipe) pays for one loop only.
@@ -46,6 +46,7 @@ pub fn kernel_source(integrator: Integrator) -> String {
         GpuControl::wgsl(),
         include_str!("../../shaders/model.wgsl").to_string(),
         include_str!("../../shaders/derive.wgsl").to_string(),
+        include_str!("../../shaders/insulation.wgsl").to_string(),
         include_str!("../../shaders/closures.wgsl").to_string(),
         include_str!("../../shaders/rhs.wgsl").to_string(),
         include_str!("../../shaders/observe.wgsl").to_string(),

@@ -23,6 +23,10 @@ pub mod flag {
     pub const RELIEF: u32 = 64;
     /// The pressurant is the propellant's own vapour (`PressurantGas::Autogenous`).
     pub const AUTOGENOUS: u32 = 128;
+    /// `[insulation]` replaces the fixed heat leak (`shaders/insulation.wgsl`).
+    pub const INSULATION: u32 = 256;
+    /// The insulation has a multilayer blanket (else bare foam).
+    pub const MLI: u32 = 512;
 }
 
 /// Excitation kinds in [`GpuPhase::exc_kind`].
@@ -62,6 +66,18 @@ gpu_struct! {
         pub n_phases: u32,
         pub tank: GpuTank,
         pub heat_leak_w: f32,
+        /// `[insulation]` (`model::insulation`): foam L/k (m²·K/W), the blanket's solid,
+        /// radiation and gas coefficients, ground convection (W/(m²·K)) and air temperature (K),
+        /// space sink temperature (K) and absorbed flux (W/m²), outer ε σ (W/(m²·K⁴)).
+        pub ins_foam_resistance: f32,
+        pub ins_mli_solid: f32,
+        pub ins_mli_radiation: f32,
+        pub ins_mli_gas: f32,
+        pub ins_ground_h: f32,
+        pub ins_ground_t: f32,
+        pub ins_space_t: f32,
+        pub ins_space_absorbed: f32,
+        pub ins_eps_sigma: f32,
         /// Surface tension fit σ_0 (N/m), exponent and T_c (K) (`fluids::surface_tension`).
         pub sigma0: f32,
         pub sigma_exp: f32,
@@ -118,6 +134,8 @@ gpu_struct! {
         pub kind: u32,
         pub n_steps: u32,
         pub pressurize: u32,
+        /// The insulation faces space (`flight::Environment::Space`), else the ground.
+        pub space: u32,
         pub exc_kind: u32,
         pub table_start: u32,
         pub table_len: u32,
@@ -289,6 +307,17 @@ impl GpuParams {
         if rl.is_some() {
             flags |= flag::RELIEF;
         }
+        let ins = p.insulation;
+        if let Some(i) = ins {
+            flags |= flag::INSULATION;
+            if i.mli.is_some() {
+                flags |= flag::MLI;
+            }
+        }
+        let stack = ins.map(|i| i.stack());
+        let mli = stack.and_then(|s| s.mli);
+        let ground = ins.map(|i| i.surroundings(crate::model::flight::Environment::Ground));
+        let space = ins.map(|i| i.surroundings(crate::model::flight::Environment::Space));
         let f = |v: f64| v as f32;
         let psf =
             |g: fn(&crate::model::params::Pressurization) -> f64| ps.as_ref().map_or(0.0, g) as f32;
@@ -305,6 +334,15 @@ impl GpuParams {
             n_phases: n_phases as u32,
             tank: GpuTank::new(&p.tank),
             heat_leak_w: f(p.heat_leak_w),
+            ins_foam_resistance: f(stack.map_or(0.0, |s| s.foam_resistance_m2_k_per_w)),
+            ins_mli_solid: f(mli.map_or(0.0, |m| m.solid)),
+            ins_mli_radiation: f(mli.map_or(0.0, |m| m.radiation)),
+            ins_mli_gas: f(mli.map_or(0.0, |m| m.gas)),
+            ins_ground_h: f(ground.map_or(0.0, |g| g.h_w_per_m2_k)),
+            ins_ground_t: f(ground.map_or(0.0, |g| g.t_air_k)),
+            ins_space_t: f(space.map_or(0.0, |g| g.t_air_k)),
+            ins_space_absorbed: f(space.map_or(0.0, |g| g.absorbed_w_per_m2)),
+            ins_eps_sigma: f(space.map_or(0.0, |g| g.eps_sigma)),
             sigma0: f(p.fluid.surface_tension().sigma0_n_per_m),
             sigma_exp: f(p.fluid.surface_tension().exponent),
             sigma_tc: f(p.fluid.surface_tension().t_crit_k),
@@ -462,6 +500,7 @@ impl GpuPhase {
             kind: phase_code(ph.kind),
             n_steps: n as u32,
             pressurize: u32::from(ph.pressurize),
+            space: u32::from(ph.environment == crate::model::flight::Environment::Space),
             exc_kind,
             table_start,
             table_len,
@@ -523,6 +562,20 @@ pub fn constants_wgsl() -> String {
         ("FLAG_PRESSURIZATION", flag::PRESSURIZATION),
         ("FLAG_RELIEF", flag::RELIEF),
         ("FLAG_AUTOGENOUS", flag::AUTOGENOUS),
+        ("FLAG_INSULATION", flag::INSULATION),
+        ("FLAG_MLI", flag::MLI),
+        (
+            "INSULATION_OUTER_ITERATIONS",
+            crate::model::insulation::OUTER_ITERATIONS,
+        ),
+        (
+            "INSULATION_INNER_ITERATIONS",
+            crate::model::insulation::INNER_ITERATIONS,
+        ),
+        (
+            "INSULATION_FOAM_ITERATIONS",
+            crate::model::insulation::FOAM_ITERATIONS,
+        ),
         ("EXC_NONE", exc::NONE),
         ("EXC_STEP", exc::STEP),
         ("EXC_RAMP", exc::RAMP),
@@ -575,6 +628,18 @@ pub fn constants_wgsl() -> String {
             crate::simulate::adaptive::MIN_STEP_FRACTION,
         ),
         ("DOPRI_ERROR_ORDER", crate::model::dopri::ERROR_ORDER),
+        (
+            "MIN_INSULATION_TEMPERATURE_K",
+            crate::model::insulation::MIN_INSULATION_TEMPERATURE_K,
+        ),
+        (
+            "MLI_RADIATION_EXPONENT",
+            crate::model::insulation::MLI_RADIATION_EXPONENT,
+        ),
+        (
+            "MLI_GAS_EXPONENT",
+            crate::model::insulation::MLI_GAS_EXPONENT,
+        ),
     ] {
         s += &format!("const {name}: f32 = {v:e};\n");
     }

@@ -160,13 +160,19 @@ pub fn slosh_angle_rate<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> 
     }
 }
 
-/// Wall node rates: the insulation heat by area share, less the heat each node passes to the
-/// fluid (`q_wet_w` into the liquid, `q_dry_w` into the ullage), plus the hand-over of wall mass
-/// and its energy as the waterline moves with the liquid volume rate `dv_liquid_m3_s`.
+/// Wall node rates: the heat from outside (`env`, [`super::insulation::wall_heat`]), less the
+/// heat each node passes to the fluid (`q_wet_w` into the liquid, `q_dry_w` into the ullage),
+/// plus the hand-over of wall mass and its energy as the waterline moves with the liquid volume
+/// rate `dv_liquid_m3_s`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the wall's inputs, each a lane value"
+)]
 pub fn wall_rates<T: Real>(
     g: Group<'_>,
     tank: &crate::geometry::TankLanes<T>,
     x: &Derived<T>,
+    env: &super::insulation::WallHeat<T>,
     q_wet_w: T,
     q_dry_w: T,
     dv_liquid_m3_s: T,
@@ -179,10 +185,9 @@ pub fn wall_rates<T: Real>(
     let dshare = x.wetted_share_slope * dz;
     let t_moving = T::select(dshare.lt(c(0.0)), x.t_wall_wet_k, x.t_wall_dry_k);
     let handover = m_wall * dshare * cp_wall * t_moving;
-    let q_env: T = g.get(|p| p.heat_leak_w);
-    ds[E_WD] = q_env * x.wetted_share.rsub(1.0) - q_dry_w - handover;
-    ds[E_WW] = q_env * x.wetted_share - q_wet_w + handover;
-    ds[E_ENV] = q_env;
+    ds[E_WD] = env.dry_w - q_dry_w - handover;
+    ds[E_WW] = env.wet_w - q_wet_w + handover;
+    ds[E_ENV] = env.total_w;
 }
 
 /// The ledger of what crossed the tank boundary: vented species, drawn propellant, pressurant in,

@@ -53,6 +53,8 @@ pub struct Drive<T: Real = f64> {
     pub pressurize: T::Mask,
     /// Relief valve open (hysteresis state, updated between steps).
     pub valve_open: T::Mask,
+    /// The insulation faces space (else the ground environment).
+    pub space: T::Mask,
 }
 
 impl Drive {
@@ -70,6 +72,7 @@ impl Drive {
             a_ax_extra,
             pressurize: phase.pressurize,
             valve_open,
+            space: phase.environment == flight::Environment::Space,
         }
     }
 }
@@ -91,6 +94,7 @@ impl<T: Real> Drive<T> {
             a_ax_extra: T::from_fn(|i| d[i].a_ax_extra),
             pressurize: T::Mask::from_fn(|i| d[i].pressurize),
             valve_open: T::Mask::from_fn(|i| d[i].valve_open),
+            space: T::Mask::from_fn(|i| d[i].space),
         }
     }
 
@@ -106,6 +110,7 @@ impl<T: Real> Drive<T> {
             a_ax_extra: self.a_ax_extra.lane(i),
             pressurize: self.pressurize.lane(i),
             valve_open: self.valve_open.lane(i),
+            space: self.space.lane(i),
         }
     }
 }

@@ -38,6 +38,33 @@ impl PhaseKind {
     }
 }
 
+/// The surroundings of the tank's insulation in a phase (`[insulation]`; docs/PHYSICS.md 2.5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Environment {
+    /// Air at the ambient temperature: convection and radiation to the outer surface.
+    Ground,
+    /// Radiation to a sink and an absorbed solar/planetary flux.
+    Space,
+}
+
+impl Environment {
+    /// Campaign spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Environment::Ground => "ground",
+            Environment::Space => "space",
+        }
+    }
+
+    /// The default of a phase kind: a hold is on the ground, a burn or coast in space.
+    pub fn of_kind(kind: PhaseKind) -> Environment {
+        match kind {
+            PhaseKind::Hold => Environment::Ground,
+            PhaseKind::Burn | PhaseKind::Coast => Environment::Space,
+        }
+    }
+}
+
 /// Lateral excitation a_lat(t), m/s², with t measured from the phase start.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Excitation {
@@ -266,6 +293,8 @@ pub struct Phase {
     pub excitation: Excitation,
     /// Whether the helium pressurization system may flow in this phase.
     pub pressurize: bool,
+    /// The insulation's surroundings (used only with `[insulation]`).
+    pub environment: Environment,
 }
 
 impl Phase {

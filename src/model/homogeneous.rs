@@ -160,12 +160,18 @@ pub fn rhs<T: Real>(
     // The fluid's heat capacity is far larger than a wall node's: the wall side limits the step.
     let c_wall: T = g.get(Params::wall_heat_capacity_j_per_k);
     let c_fluid = x.m_liquid_kg * liq.cp + m_u * cv_vapor;
-    let warming = g.get::<T>(|p| p.heat_leak_w) / c_wall;
-    let exchange = |h: T, area: T, share: T, t_wall: T| {
+    let env = super::insulation::wall_heat(g, d, x);
+    let exchange = |h: T, area: T, share: T, t_wall: T, warming: T| {
         thermal::wall_exchange(h * area, dt, c_wall * share, c_fluid, t_wall - t, warming)
     };
-    let q_wl = exchange(h_wl, a_wet, x.wetted_share, x.t_wall_wet_k);
-    let q_wu = exchange(h_wu, a_dry, dry_share, x.t_wall_dry_k);
+    let q_wl = exchange(
+        h_wl,
+        a_wet,
+        x.wetted_share,
+        x.t_wall_wet_k,
+        env.warming_wet_k_s,
+    );
+    let q_wu = exchange(h_wu, a_dry, dry_share, x.t_wall_dry_k, env.warming_dry_k_s);
 
     // The M_V slot is unused here; the ullage composition comes from the equilibrium.
     let mut sv = *s;
@@ -184,7 +190,7 @@ pub fn rhs<T: Real>(
     boundary::motion_rates(g, s, d, x, ds);
 
     // Level motion for the wall hand-over (vapour share neglected).
-    boundary::wall_rates(g, &g.tank(), x, q_wl, q_wu, ds[M_B] / rho, ds);
+    boundary::wall_rates(g, &g.tank(), x, &env, q_wl, q_wu, ds[M_B] / rho, ds);
     boundary::boundary_ledger(&b, h_press, h_u, b.out_kg_s * h_l, ds);
     b
 }

@@ -9,6 +9,7 @@ pub mod derive;
 pub mod dopri;
 pub mod flight;
 pub mod homogeneous;
+pub mod insulation;
 pub mod nodes;
 pub mod params;
 pub mod slosh;

@@ -227,14 +227,14 @@ pub fn rhs<T: Real>(
     // Once the bulk is merged into the layer the wetted wall feeds the layer alone.
     let bulk_gone = s[M_B].le(c(0.0));
     let c_bulk = T::select(bulk_gone, s[M_S], s[M_B]).max_c(1.0e-9) * liq.cp;
-    let warming = g.get::<T>(|p| p.heat_leak_w) / c_wall;
+    let env = super::insulation::wall_heat(g, d, x);
     let q_wl = thermal::wall_exchange(
         h_wl * a_wet,
         dt,
         c_wall * x.wetted_share,
         c_bulk,
         x.t_wall_wet_k - t_b,
-        warming,
+        env.warming_wet_k_s,
     );
     let depth = x.v_layer_m3 / a_i;
     let a_below = tank.wetted_area_m2(x.level_m - depth);
@@ -250,7 +250,7 @@ pub fn rhs<T: Real>(
         c_wall * dry_share,
         heat_cap,
         x.t_wall_dry_k - t_u,
-        warming,
+        env.warming_dry_k_s,
     );
 
     // Interface: ullage ↔ layer (stable, warm gas over cold liquid) and layer ↔ bulk.
@@ -348,7 +348,7 @@ pub fn rhs<T: Real>(
     ds[H_S] = dh_s;
     ds[U_U] = du_u;
 
-    boundary::wall_rates(g, &tank, x, q_wl, q_wu, dv_s + dv_b, ds);
+    boundary::wall_rates(g, &tank, x, &env, q_wl, q_wu, dv_s + dv_b, ds);
     boundary::boundary_ledger(&b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     ds[E_WORK] = -pu * dv_slosh;
 

@@ -172,14 +172,79 @@ pub struct Vehicle {
     pub slosh_lever_arm_m: f64,
 }
 
+/// The insulation of `[insulation]` and the surroundings it faces (docs/PHYSICS.md 2.5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Insulation {
+    /// Spray-on foam on the wall, if any.
+    pub foam: Option<super::insulation::Foam>,
+    /// Multilayer blanket over the foam (or the bare wall), if any.
+    pub mli: Option<super::insulation::Mli>,
+    /// Ground: air and surrounding-surface temperature, K.
+    pub ground_ambient_temperature_k: f64,
+    /// Ground: convection coefficient to the outer surface, W/(m²·K).
+    pub ground_convection_w_per_m2_k: f64,
+    /// Space: radiation sink temperature, K.
+    pub space_sink_temperature_k: f64,
+    /// Space: solar, albedo and planetary flux incident on the outer surface, averaged over the
+    /// insulated area, W/m².
+    pub space_incident_flux_w_per_m2: f64,
+    /// Outer surface hemispherical emissivity, –.
+    pub outer_emissivity: f64,
+    /// Outer surface absorptivity for the incident flux, –.
+    pub outer_absorptivity: f64,
+}
+
+impl Insulation {
+    /// The stack of one instance (f64).
+    pub fn stack(&self) -> super::insulation::Stack {
+        super::insulation::Stack {
+            foam_resistance_m2_k_per_w: self.foam.map_or(0.0, |f| f.resistance_m2_k_per_w()),
+            mli: self.mli.map(|m| m.coefficients()),
+        }
+    }
+
+    /// The surroundings in `env` (f64).
+    pub fn surroundings(&self, env: super::flight::Environment) -> super::insulation::Surroundings {
+        let space = env == super::flight::Environment::Space;
+        let t = if space {
+            self.space_sink_temperature_k
+        } else {
+            self.ground_ambient_temperature_k
+        };
+        super::insulation::Surroundings {
+            h_w_per_m2_k: if space {
+                0.0
+            } else {
+                self.ground_convection_w_per_m2_k
+            },
+            t_air_k: t,
+            t_rad4_k4: t * t * (t * t),
+            absorbed_w_per_m2: if space {
+                self.outer_absorptivity * self.space_incident_flux_w_per_m2
+            } else {
+                0.0
+            },
+            eps_sigma: self.outer_emissivity * super::insulation::STEFAN_BOLTZMANN,
+        }
+    }
+
+    /// The steady leak into a wall at `t_wall_k` (K) in `env`: the same solution the
+    /// integration uses.
+    pub fn leak(&self, env: super::flight::Environment, t_wall_k: f64) -> super::insulation::Leak {
+        super::insulation::leak(&self.stack(), &self.surroundings(env), t_wall_k)
+    }
+}
+
 /// Everything one instance needs apart from the phase list.
 #[derive(Clone, Copy, Debug)]
 pub struct Params {
     pub fidelity: Fidelity,
     pub fluid: Fluid,
     pub tank: Tank,
-    /// Heat leak through the insulation into the wall, W.
+    /// Fixed heat leak through the insulation into the wall, W (unused with `insulation`).
     pub heat_leak_w: f64,
+    /// Insulation and surroundings; `None`: the fixed `heat_leak_w`.
+    pub insulation: Option<Insulation>,
     /// Wall mass per unit area, kg/m².
     pub wall_areal_mass_kg_per_m2: f64,
     /// Wall specific heat, J/(kg·K).
@@ -237,6 +302,10 @@ impl Params {
             && self.tank.shape() == other.tank.shape()
             && self.pressurization.is_some() == other.pressurization.is_some()
             && self.relief.is_some() == other.relief.is_some()
+            && self.insulation.map(|i| (i.foam.is_some(), i.mli.is_some()))
+                == other
+                    .insulation
+                    .map(|i| (i.foam.is_some(), i.mli.is_some()))
             && a.evaporation_coefficient_kg_per_s_pa.is_some()
                 == b.evaporation_coefficient_kg_per_s_pa.is_some()
             && a.h_us_w_per_m2_k.is_some() == b.h_us_w_per_m2_k.is_some()

@@ -264,7 +264,7 @@ fn row(p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) -> [f64; HISTO
         s[ALT],
         x.a_ax,
         d.a_lat,
-        p.heat_leak_w,
+        crate::model::insulation::wall_heat(Group::one(p), d, x).total_w,
     ]
 }
 
