@@ -117,6 +117,11 @@ fn set_accepts_toml_number_literals() {
     same("tank.heat_leak_w=1e3", "tank.heat_leak_w=1000.0");
     same("tank.heat_leak_w=+1_0.2_5", "tank.heat_leak_w=10.25");
     same("campaign.instances=0x40", "campaign.instances=64");
+    // A count written as a float (instances.parquet stores `slosh.baffle_count` as 3.0) is
+    // taken: it was refused as "invalid type: floating point `3.0`, expected u32".
+    same("campaign.instances=64.0", "campaign.instances=64");
+    same("campaign.instances=6.4e1", "campaign.instances=64");
+    same("tank.heat_leak_w=1_000.0", "tank.heat_leak_w=1000");
     assert_eq!(
         load("mhtb_selfpress", &["campaign.instances=2_000"]).instances,
         2000

@@ -473,3 +473,47 @@ fn newcombe_paired_interval_covers_at_the_nominal_rate() {
     assert!((coverage - 0.95).abs() <= tolerance, "coverage {coverage}");
     assert!(paired_width < unpaired_width);
 }
+
+/// The unbaffled baseline of the shipped trade swings its pendulum beyond its range in most
+/// instances (one whirls through 556 rad in the coast), yet neither the run's summary, nor
+/// `statistics.parquet`, nor the side-by-side table said so: its boil-off and cavitation were
+/// compared as if the model stood behind them. The share is now a Clopper–Pearson `fraction`
+/// row of each variant's statistics and a line of the table.
+#[test]
+fn the_share_of_instances_outside_the_slosh_range_is_reported_per_variant() {
+    let text = std::fs::read_to_string(campaign_path("tank_design_trade")).unwrap();
+    let c = Campaign::from_text(&campaign_path("tank_design_trade"), &text, &[]).unwrap();
+    let dir = scratch("slosh-range");
+    let r = run(&c, &dir, 10, 2);
+    let share = |k: usize| {
+        r.reports[k]
+            .statistics
+            .iter()
+            .find(|row| {
+                row.stat.quantity == "slosh_out_of_range" && row.stat.statistic == "fraction"
+            })
+            .map(|row| (row.stat.value, row.stat.ci_low, row.stat.n))
+            .unwrap_or_else(|| panic!("{}: no slosh_out_of_range fraction", r.names[k]))
+    };
+    let flagged = |k: usize| {
+        let path = variant_dir(&dir, &r.names[k]).join("instances.parquet");
+        let col = cryoslosh::montecarlo::table::read_flag(&path, "slosh_out_of_range").unwrap();
+        col.iter().filter(|x| **x == Some(true)).count() as f64 / col.len() as f64
+    };
+    let base = r.names.iter().position(|n| n == "baseline").unwrap();
+    let baffled = r.names.iter().position(|n| n == "baffles").unwrap();
+    let (b, b_lo, n) = share(base);
+    assert_eq!(n, 10);
+    assert_eq!(b, flagged(base));
+    assert!(b >= 0.5 && b_lo > 0.0, "baseline share {b} [{b_lo}, …]");
+    let (f, _, _) = share(baffled);
+    assert_eq!(f, flagged(baffled));
+    assert!(f < b, "baffles {f} vs baseline {b}");
+    let table = cryoslosh::montecarlo::variants::summary_text(&r);
+    let line = table
+        .lines()
+        .find(|l| l.starts_with("slosh_out_of_range fraction"))
+        .unwrap_or_else(|| panic!("no slosh_out_of_range line in\n{table}"));
+    assert!(line.contains(&format!("{b}")), "{line}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -354,9 +354,10 @@ fn one_line(s: &str) -> String {
 /// (`1_000`, `1_000.5`, `0x10`, a quoted string `"helium"`, an array `[1, 2]`, an inline table;
 /// no field takes a date, so `2024-01-01` stays text), else the text as a bare string
 /// (`pressurization.gas=helium`). A quoted value used to keep its quotes and fail validation,
-/// and `1_000` to be refused as the string "1_000".
+/// and `1_000` to be refused as the string "1_000". An integral number (`3.0`, `1e3`) is an
+/// integer, so that a count key takes it.
 fn parse_value(v: &str) -> toml::Value {
-    if let Ok(i) = v.parse::<i64>() {
+    let value = if let Ok(i) = v.parse::<i64>() {
         toml::Value::Integer(i)
     } else if let Ok(x) = v.parse::<f64>() {
         toml::Value::Float(x)
@@ -371,6 +372,15 @@ fn parse_value(v: &str) -> toml::Value {
         literal
     } else {
         toml::Value::String(v.to_string())
+    };
+    // An integral number is written as an integer, as a dispersion sample is (`set_number`): a
+    // count copied from instances.parquet (`slosh.baffle_count=3.0`) was refused ("invalid type:
+    // floating point, expected u32"); a float key takes an integer alike.
+    match value {
+        toml::Value::Float(x) if x.fract() == 0.0 && x.abs() < 9.0e15 => {
+            toml::Value::Integer(x as i64)
+        }
+        other => other,
     }
 }
 

@@ -271,6 +271,17 @@ pub fn side_by_side(names: &[String], stats: &[Vec<st::Row>], rows: &[DiffRow]) 
             lines.push((r.quantity.clone(), stat, r.threshold));
         }
     }
+    // The outcome and validity flags some variant raised, as shares of its valid instances: a
+    // variant mostly `slosh_out_of_range` (the unbaffled trade baseline) compares numbers the
+    // model does not stand behind, and the table said nothing of it.
+    for flag in ["depleted", "pressurant_exhausted", "slosh_out_of_range"] {
+        let raised = stats.iter().flatten().any(|r| {
+            r.stat.quantity == flag && r.stat.statistic == "fraction" && r.stat.value > 0.0
+        });
+        if raised {
+            lines.push((flag.into(), "fraction".into(), f64::NAN));
+        }
+    }
     for (q, stat, threshold) in &lines {
         let label = if threshold.is_finite() {
             let op = if stat == "prob_exceed" { ">" } else { "<" };

@@ -7,7 +7,7 @@
 //! interval with the Bonett–Wright variance, Sobol indices a bootstrap over complete groups; and
 //! the campaign's one-sided (Wilks) tolerance bounds are reported beside them.
 
-use super::table::{qoi_names, read_bool, read_f64, ReadError};
+use super::table::{qoi_names, read_bool, read_f64, read_flag, ReadError};
 use crate::campaign::dispersion::Dispersions;
 use crate::campaign::statistics::{quantile_name, Side, StatisticsPlan, Threshold};
 use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
@@ -244,6 +244,18 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
             .map(|&x| f64::from(u8::from(x)))
             .collect();
         rows.push(fraction_row(name, &keep(ones), level));
+    }
+    // The slosh analog out of its range is a validity flag, counted among the valid instances
+    // where the fidelity models slosh (null in every row at the homogeneous level): 35 of 40
+    // unbaffled instances of the design trade whirled through hundreds of radians and neither
+    // the run's summary nor the statistics said so.
+    let slosh = read_flag(path, "slosh_out_of_range")?;
+    if slosh.iter().zip(&valid).any(|(x, &ok)| ok && x.is_some()) {
+        let ones: Vec<f64> = slosh
+            .iter()
+            .map(|&x| f64::from(u8::from(x.unwrap_or(false))))
+            .collect();
+        rows.push(fraction_row("slosh_out_of_range", &keep(ones), level));
     }
 
     let thresholds = thresholds(spec);

@@ -210,6 +210,7 @@ pub fn summary_text(r: &RunReport) -> String {
     for (name, what) in [
         ("depleted", "ran dry (depleted)"),
         ("pressurant_exhausted", "pressurant exhausted"),
+        ("slosh_out_of_range", "slosh out of range"),
     ] {
         if let Some(x) = find(s, name, "fraction").filter(|x| x.value > 0.0) {
             let _ = writeln!(

@@ -472,6 +472,16 @@ pub fn read_bool(path: &Path, name: &str) -> Result<Vec<bool>, ReadError> {
     }
 }
 
+/// A flag column of an instances file with its nulls (a rejected or diverged instance's
+/// outcome, or a flag the campaign's fidelity does not model).
+pub fn read_flag(path: &Path, name: &str) -> Result<Vec<Option<bool>>, ReadError> {
+    match read_column(path, name)? {
+        Buf::Bool(v) => Ok(v),
+        Buf::F64(v) => Ok(v.into_iter().map(|x| Some(x != 0.0)).collect()),
+        Buf::U64(v) => Ok(v.into_iter().map(|x| Some(x != 0)).collect()),
+    }
+}
+
 /// A u64 column of an instances file.
 pub fn read_u64(path: &Path, name: &str) -> Result<Vec<u64>, ReadError> {
     match read_column(path, name)? {

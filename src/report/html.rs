@@ -232,8 +232,9 @@ fn probabilities(h: &mut String, p: &Page) {
     h.push_str(
         "<h2 id=\"probabilities\">Flags and probabilities</h2>\n<p class=\"note\">Every \
          probability of <code>statistics.parquet</code> with its exact Clopper–Pearson interval: \
-         the shares of diverged and rejected instances (of all), of depleted and \
-         pressurant-exhausted ones (of the valid), and each threshold's exceedance.</p>\n\
+         the shares of diverged and rejected instances (of all), of depleted, \
+         pressurant-exhausted and slosh-out-of-range ones (of the valid), and each threshold's \
+         exceedance.</p>\n\
          <table><tr><th>quantity</th><th>statistic</th><th>threshold</th><th>probability</th>\
          <th>ci_low</th><th>ci_high</th><th>confidence</th><th>n</th></tr>\n",
     );
