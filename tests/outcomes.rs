@@ -221,9 +221,9 @@ fn the_depleted_event_carries_a_pressure_inside_the_run() {
 /// Two dispersed instances of the LH2 stage at 2 % fill (fill dispersion off) "diverged" under
 /// 0.1 s RK4 steps a second before running dry: one on a bulk left with 6 g at T_b = −206 K,
 /// the other on a step that overdrew the merged layer (1.5e296 kg, NaN ullage energy). Both now
-/// run dry at the DOPRI5 time, and the minimum cavitation margin, set in the drain's last second,
-/// converges with the step (it was −80 m under DOPRI5 and +26 m under RK4: where the last step
-/// landed on the vanishing bulk's temperature spike decided it).
+/// run dry at the DOPRI5 time, and the minimum cavitation margin agrees between the steps (it was
+/// −80 m under DOPRI5 and +26 m under RK4: where the last step landed on the vanishing bulk's
+/// temperature spike decided it).
 #[test]
 fn draining_the_last_kilograms_under_fixed_steps_runs_dry_at_any_step() {
     let instances: [&[&str]; 2] = [
@@ -283,6 +283,9 @@ fn draining_the_last_kilograms_under_fixed_steps_runs_dry_at_any_step() {
             m(&fine),
             m(&tight)
         );
+        // The drain's last 1 % (the unusable residual) is not observed: both steps stay within
+        // 5 m of the tight solution (the margin still falls some 10 m over the last seconds).
         assert!((m(&fine) - m(&tight)).abs() < 5.0, "instance {k}");
+        assert!((m(&coarse) - m(&tight)).abs() < 5.0, "instance {k}");
     }
 }
