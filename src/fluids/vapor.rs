@@ -218,3 +218,18 @@ pub struct VaporState<T> {
     /// ∂P/∂ρ at constant T, Pa m³/kg.
     pub dp_drho: T,
 }
+
+impl<T: Real> VaporState<T> {
+    /// Lane `i`.
+    pub fn lane(&self, i: usize) -> VaporState<f64> {
+        VaporState {
+            z: self.z.lane(i),
+            u_res_j_per_kg: self.u_res_j_per_kg.lane(i),
+            du_res_dt: self.du_res_dt.lane(i),
+            du_res_drho: self.du_res_drho.lane(i),
+            p_pa: self.p_pa.lane(i),
+            dp_dt: self.dp_dt.lane(i),
+            dp_drho: self.dp_drho.lane(i),
+        }
+    }
+}

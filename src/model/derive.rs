@@ -157,6 +157,32 @@ pub struct Derived<T = f64> {
     /// Drag, N.
     pub drag_n: T,
     pub slosh: SloshParams<T>,
+    /// The real-gas vapour at the ullage's (T_u, ρ_v) and its ideal-gas energy u⁰ (J/kg) and
+    /// c_v⁰ (J/(kg K)) there, from [`ullage_temperature`]: carried so that the right-hand side
+    /// does not evaluate them again (lumped levels; zero at the homogeneous level).
+    pub ullage_vapor: UllageVapor<T>,
+}
+
+/// The ullage vapour's properties at the derived state (see [`Derived::ullage_vapor`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct UllageVapor<T = f64> {
+    /// Residual state and its derivatives ([`crate::fluids::FluidProps::vapor_state`]).
+    pub state: crate::fluids::vapor::VaporState<T>,
+    /// Ideal-gas internal energy u⁰, J/kg ([`crate::fluids::FluidProps::vapor_ideal`]).
+    pub u0_j_per_kg: T,
+    /// Ideal-gas isochoric heat capacity c_v⁰, J/(kg K).
+    pub cv0_j_per_kg_k: T,
+}
+
+impl<T: Real> UllageVapor<T> {
+    /// Lane `i`.
+    pub fn lane(&self, i: usize) -> UllageVapor {
+        UllageVapor {
+            state: self.state.lane(i),
+            u0_j_per_kg: self.u0_j_per_kg.lane(i),
+            cv0_j_per_kg_k: self.cv0_j_per_kg_k.lane(i),
+        }
+    }
 }
 
 impl<T: Real> SloshParams<T> {
@@ -198,6 +224,7 @@ impl<T: Real> Derived<T> {
             vehicle_mass_kg: self.vehicle_mass_kg.lane(i),
             drag_n: self.drag_n.lane(i),
             slosh: self.slosh.lane(i),
+            ullage_vapor: self.ullage_vapor.lane(i),
         }
     }
 }
@@ -331,8 +358,9 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T>
     let rho_v = s[M_V] / out.v_ullage_m3;
     let (t_u, vapor) = ullage_temperature(fluid, s[M_V], s[M_G], s[U_U], rho_v);
     out.t_ullage_k = t_u;
+    out.ullage_vapor = vapor;
     out.m_vapor_kg = s[M_V];
-    out.p_vapor_pa = vapor.p_pa;
+    out.p_vapor_pa = vapor.state.p_pa;
     out.p_ullage_pa =
         out.p_vapor_pa + s[M_G] * HELIUM.r_specific_j_per_kg_k() * out.t_ullage_k / out.v_ullage_m3;
     let (twd, tww) = wall_temperatures(g, s, out.wetted_share);
@@ -352,14 +380,14 @@ const ULLAGE_NEWTON_TOL: f64 = 1e-13;
 /// [`crate::fluids::FluidProps::vapor_ideal`]; e_0: [`vapor_energy_offset`]), by Newton from the
 /// root of the ideal gas linearised at the middle of the liquid range, until the step is below
 /// 1e-13 T (each lane stops moving on its own; near saturation at 2 MPa the start is 20 K low and
-/// it takes six steps). Also returns the vapour's state there.
+/// it takes six steps). Also returns the vapour's state and ideal-gas energy there.
 pub fn ullage_temperature<T: Real>(
     fluid: crate::fluids::Fluid,
     m_v: T,
     m_g: T,
     u_j: T,
     rho_v: T,
-) -> (T, crate::fluids::vapor::VaporState<T>) {
+) -> (T, UllageVapor<T>) {
     let f = fluid.props();
     let off = vapor_energy_offset(fluid);
     let t_r = 0.5 * (f.t_min_k + f.t_max_k);
@@ -378,7 +406,13 @@ pub fn ullage_temperature<T: Real>(
             break;
         }
     }
-    (t, f.vapor_state(t, rho_v))
+    let (u0, cv0) = f.vapor_ideal(t);
+    let vapor = UllageVapor {
+        state: f.vapor_state(t, rho_v),
+        u0_j_per_kg: u0,
+        cv0_j_per_kg_k: cv0,
+    };
+    (t, vapor)
 }
 
 /// Slosh angle, rad: the pendulum angle (`lumped`) or atan(x_1 / L_1) (`two_mode`).

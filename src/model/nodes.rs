@@ -193,11 +193,12 @@ pub fn rhs<T: Real>(
     let off = vapor_energy_offset(p0.fluid);
     let (t_u, t_s, t_b) = (x.t_ullage_k, x.t_layer_k, x.t_bulk_k);
     // Real-gas vapour at the ullage state (`fluids::vapor`): its energy, enthalpy and the
-    // derivatives the evaporation's chain rule needs.
+    // derivatives the evaporation's chain rule needs, as `derive::ullage_temperature` left them
+    // at the same (T_u, ρ_v).
     let rho_v = s[M_V] / x.v_ullage_m3;
-    let vapor = f.vapor_state(t_u, rho_v);
+    let vapor = x.ullage_vapor.state;
     let rv = f.r_specific_j_per_kg_k();
-    let (u0, cv0) = f.vapor_ideal(t_u);
+    let (u0, cv0) = (x.ullage_vapor.u0_j_per_kg, x.ullage_vapor.cv0_j_per_kg_k);
     let u_vap = u0 + off + vapor.u_res_j_per_kg;
     // Ullage heat capacity at constant volume: real-gas vapour and ideal helium.
     let cv_g = HELIUM.cv_j_per_kg_k;

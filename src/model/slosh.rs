@@ -138,13 +138,16 @@ fn cell(n: usize, x: f64) -> (usize, f64) {
     (i, x - i as f64)
 }
 
-/// One table column (nodes of 4 values from `base`) at grid coordinate `x`, Catmull-Rom.
-fn column(data: &[f64], base: usize, n: usize, x: f64) -> [f64; 4] {
-    let (idx, w) = catmull_rom(n, x);
+/// One table column (nodes of 4 values from `base`) at the Catmull-Rom nodes and weights
+/// `(idx, w)` of [`catmull_rom`] (computed once per surface position, shared by the k nodes).
+fn column(data: &[f64], base: usize, (idx, w): &([usize; 4], [f64; 4])) -> [f64; 4] {
     let mut out = [0.0; 4];
-    for (j, wj) in idx.iter().zip(w) {
-        for (q, o) in out.iter_mut().enumerate() {
-            *o += wj * data[base + 4 * j + q];
+    for (&j, &wj) in idx.iter().zip(w) {
+        let node: &[f64; 4] = data[base + 4 * j..base + 4 * j + 4]
+            .try_into()
+            .expect("a table node holds 4 values");
+        for (o, d) in out.iter_mut().zip(node) {
+            *o += wj * d;
         }
     }
     out
@@ -173,15 +176,17 @@ pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [Mod
     let mut q = [0.0; 4];
     let scale: [f64; 4] = if z <= k {
         let x = (z / k).sqrt() * (table::N_SIGMA - 1) as f64;
+        let cr = catmull_rom(table::N_SIGMA, x);
         for (&i, w) in kn.iter().zip(kw) {
-            let c = column(&table::BOTTOM, 4 * i * table::N_SIGMA, table::N_SIGMA, x);
+            let c = column(&table::BOTTOM, 4 * i * table::N_SIGMA, &cr);
             q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
         }
         [1.0; 4]
     } else if z < k + l {
         let x = ((z - k) / table::BARREL_H_MAX).sqrt() * (table::N_BARREL - 1) as f64;
+        let cr = catmull_rom(table::N_BARREL, x);
         for (&i, w) in kn.iter().zip(kw) {
-            let c = column(&table::BARREL, 4 * i * table::N_BARREL, table::N_BARREL, x);
+            let c = column(&table::BARREL, 4 * i * table::N_BARREL, &cr);
             q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
         }
         [1.0, 1.0 / v, 1.0, 1.0 / v]
@@ -191,10 +196,11 @@ pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [Mod
         let x = u / table::TOP_U_MAX * (table::N_TOP - 1) as f64;
         let beta = (-2.0 * XI[0] * l).exp() * (table::N_BETA - 1) as f64;
         let (bn, bw) = linear(table::N_BETA, beta);
+        let cr = catmull_rom(table::N_TOP, x);
         for (&i, w) in kn.iter().zip(kw) {
             for (&b, wb) in bn.iter().zip(bw) {
                 let base = 4 * table::N_TOP * (b + table::N_BETA * i);
-                let c = column(&table::TOP, base, table::N_TOP, x);
+                let c = column(&table::TOP, base, &cr);
                 q.iter_mut().zip(c).for_each(|(a, b)| *a += w * wb * b);
             }
         }

@@ -209,7 +209,13 @@ impl LaneRun<'_> {
         self.merge_bulk(&mut s_end, &mut ev_end, (&d_end, mission), h);
         self.steps += 1;
         self.t = mission;
-        if self.outcomes(self.phase_start_s + t0, mission, &s_end, &ev_end) {
+        let bad = super::check_state(p, &s_end, &ev_end.derived);
+        if self.outcomes(
+            (self.phase_start_s + t0, mission),
+            &s_end,
+            &ev_end,
+            bad.is_none(),
+        ) {
             self.t_phase = t_end;
             return;
         }
@@ -222,7 +228,7 @@ impl LaneRun<'_> {
             };
             self.record(mission, kind, ev_end.derived.p_ullage_pa, f64::NAN);
         }
-        if let Some(reason) = super::check_state(p, &s_end, &ev_end.derived) {
+        if let Some(reason) = bad {
             self.diverge(&reason, mission, Some(s_end));
             self.t_phase = t_end;
             return;

@@ -490,8 +490,9 @@ impl<'a> LaneRun<'a> {
     /// Outcomes of the step from the last good state (mission time `t0`) to state `s` with
     /// evaluation `ev` at `t1`: the pressurant running out (first time) and the tank running dry
     /// (drawn by the engine or boiled off), which ends the instance. Returns true when it ran dry; the
-    /// end state is kept if it passes the checks, else the last good one.
-    fn outcomes(&mut self, t0: f64, t1: f64, s: &State, ev: &Evaluation) -> bool {
+    /// end state is kept if it passes the checks (`valid`: [`check_state`] found nothing), else
+    /// the last good one.
+    fn outcomes(&mut self, (t0, t1): (f64, f64), s: &State, ev: &Evaluation, valid: bool) -> bool {
         let p = self.params;
         let q = &mut self.tracker.summary;
         if let Some(pr) = p.pressurization.filter(|_| !q.pressurant_exhausted) {
@@ -518,7 +519,6 @@ impl<'a> LaneRun<'a> {
         // negative layer): then the step start's liquid mass rate, carried on, decides whether
         // and when it ran dry. The LH2 stage at 2 % fill under 0.1 s RK4 steps diverged 0.16 kg
         // before running dry on an end state of 1.5e296 kg and a NaN ullage energy.
-        let valid = check_state(p, s, &ev.derived).is_none();
         let m_liquid = if valid {
             ev.derived.m_liquid_kg
         } else {
@@ -544,17 +544,17 @@ impl<'a> LaneRun<'a> {
         true
     }
 
-    /// Book-keeping after a step to state `s` with evaluation `ev` under drive `d`: divergence,
+    /// Book-keeping after a step to state `merged_state` with evaluation `merged_ev` (a bulk about
+    /// to empty merges into them) under drive `d`: divergence,
     /// extremes, valve, phase change, history. Returns false when the instance diverged.
     fn after_step(
         &mut self,
-        s: &State,
-        ev: &Evaluation,
+        mut merged_state: State,
+        mut merged_ev: Evaluation,
         d: &Drive,
         history: Option<&mut History>,
     ) -> bool {
         let p = self.params;
-        let (mut merged_state, mut merged_ev) = (*s, *ev);
         // From the phase start, not summed step by step: a phase of n steps ends at its
         // duration exactly (3000 sums of 0.02 s give 60.00000000000031).
         let t = self.phase_start_s + (self.k + 1) as f64 * self.dt;
@@ -562,10 +562,11 @@ impl<'a> LaneRun<'a> {
         let (s, ev) = (&merged_state, &merged_ev);
         self.steps += 1;
         self.t = t;
-        if self.outcomes(t - self.dt, t, s, ev) {
+        let bad = check_state(p, s, &ev.derived);
+        if self.outcomes((t - self.dt, t), s, ev, bad.is_none()) {
             return true;
         }
-        if let Some(reason) = check_state(p, s, &ev.derived) {
+        if let Some(reason) = bad {
             self.diverge(&reason, t, Some(*s));
             return false;
         }
@@ -714,7 +715,7 @@ fn integrate_fixed<'a, T: Real>(
             }
             l.evaluations += if l.reuse { 4 } else { 5 };
             let h = if i == 0 { history.as_deref_mut() } else { None };
-            if !l.after_step(&state::lane(&s, i), &ev.lane(i), &d.lane(i), h) {
+            if !l.after_step(state::lane(&s, i), ev.lane(i), &d.lane(i), h) {
                 diverged = diverged | T::Mask::from_fn(|j| j == i);
             }
         }
