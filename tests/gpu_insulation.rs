@@ -4,20 +4,9 @@
 //! pattern of `tests/gpu_props.rs`, in a file of its own. Skipped (with a message) when there is
 //! no GPU adapter, unless `CRYOSLOSH_REQUIRE_GPU=1`.
 
-use cryoslosh::gpu_struct;
-use wgpu::util::DeviceExt;
+mod common;
 
-/// A device and queue on any adapter, or `None` when there is none.
-fn device() -> Option<(wgpu::Device, wgpu::Queue, String)> {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let adapter =
-        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .ok()?;
-    let name = adapter.get_info().name;
-    let (device, queue) =
-        pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default())).ok()?;
-    Some((device, queue, name))
-}
+use cryoslosh::gpu_struct;
 
 gpu_struct! {
     /// One insulation evaluation: the stack (foam L/k, blanket coefficients, whether there is
@@ -47,11 +36,7 @@ fn wgsl_insulation_matches_rust() {
     use cryoslosh::model::insulation::{
         leak, mli_flux, Foam, Mli, MliCoefficients, Stack, Surroundings, STEFAN_BOLTZMANN,
     };
-    let Some((device, queue, adapter)) = device() else {
-        if std::env::var("CRYOSLOSH_REQUIRE_GPU").as_deref() == Ok("1") {
-            panic!("skipped: no GPU adapter");
-        }
-        println!("skipped: no GPU adapter");
+    let Some((device, queue, adapter)) = common::gpu::device_or_skip() else {
         return;
     };
     println!("adapter: {adapter}");
@@ -148,65 +133,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
         ins = include_str!("../shaders/insulation.wgsl"),
         case = InsCase::wgsl(),
     );
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("insulation"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("insulation"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("cases"),
-        contents: bytemuck::cast_slice(&cases),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let size = (cases.len() * 3 * 4) as u64;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("out"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("staging"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("insulation"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: out.as_entire_binding(),
-            },
-        ],
-    });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(cases.len().div_ceil(64) as u32, 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
-    queue.submit([encoder.finish()]);
-    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("map staging buffer"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("poll device");
-    let view = staging.get_mapped_range(..).expect("mapped range");
-    let got: Vec<f32> = bytemuck::cast_slice(&view).to_vec();
+    let got = common::gpu::dispatch(
+        (&device, &queue),
+        "insulation",
+        &source,
+        &[bytemuck::cast_slice(&cases)],
+        3 * cases.len(),
+        cases.len(),
+    );
 
     let (mut worst_q, mut worst_t, mut worst_mli) = (0.0_f64, 0.0_f64, 0.0_f64);
     let mut worst_case = String::new();

@@ -7,12 +7,13 @@
 //! interpolation mismatch between the backends shows here). Skipped (with a message) when there
 //! is no GPU adapter, unless `CRYOSLOSH_REQUIRE_GPU=1`.
 
+mod common;
+
 use cryoslosh::fluids::{Fluid, FluidProps, HELIUM};
 use cryoslosh::geometry::{Shape, Tank, TankLanes};
 use cryoslosh::gpu::props::{props_wgsl, slosh_table_f32, GpuFluid, GpuGas, GpuTank};
 use cryoslosh::gpu_struct;
 use cryoslosh::model::slosh::{tank_modes, ModeShape};
-use wgpu::util::DeviceExt;
 
 gpu_struct! {
     /// One evaluation: function number `func` on fluid or tank number `obj` at `arg`.
@@ -347,18 +348,6 @@ fn tank_grid(grid: Grid, t: &Tank, dome: f64) -> Vec<f32> {
     v.into_iter().map(|x| x as f32).collect()
 }
 
-/// A device and queue on any adapter, or `None` when there is none.
-fn device() -> Option<(wgpu::Device, wgpu::Queue, String)> {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let adapter =
-        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .ok()?;
-    let name = adapter.get_info().name;
-    let (device, queue) =
-        pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default())).ok()?;
-    Some((device, queue, name))
-}
-
 /// The test kernel: `props_wgsl()`, the `Case` struct and an entry point that evaluates
 /// case `i` into `out[i]` (one `switch` arm per entry of `FLUID_FUNCS` then `TANK_FUNCS`).
 fn kernel() -> String {
@@ -409,82 +398,28 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
 
 /// Runs `cases` through the kernel and returns one f32 per case.
 fn run(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
+    gpu: (&wgpu::Device, &wgpu::Queue),
     cases: &[Case],
     fluids: &[GpuFluid],
     tanks: &[GpuTank],
 ) -> Vec<f32> {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("gpu_props"),
-        source: wgpu::ShaderSource::Wgsl(kernel().into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("gpu_props"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let storage = |label: &str, contents: &[u8]| {
-        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents,
-            usage: wgpu::BufferUsages::STORAGE,
-        })
-    };
     let gas = GpuGas::new(&HELIUM);
     let slosh_table = slosh_table_f32();
-    let inputs = [
-        storage("cases", bytemuck::cast_slice(cases)),
-        storage("fluids", bytemuck::cast_slice(fluids)),
-        storage("tanks", bytemuck::cast_slice(tanks)),
-        storage("gas", bytemuck::bytes_of(&gas)),
-        storage("tables", bytemuck::cast_slice(&slosh_table)),
+    let inputs: [&[u8]; 5] = [
+        bytemuck::cast_slice(cases),
+        bytemuck::cast_slice(fluids),
+        bytemuck::cast_slice(tanks),
+        bytemuck::bytes_of(&gas),
+        bytemuck::cast_slice(&slosh_table),
     ];
-    let size = (cases.len() * 4) as u64;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("out"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("staging"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let entries: Vec<wgpu::BindGroupEntry> = inputs
-        .iter()
-        .chain([&out])
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("gpu_props"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(cases.len().div_ceil(64) as u32, 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
-    queue.submit([encoder.finish()]);
-    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("map staging buffer"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("poll device");
-    let view = staging.get_mapped_range(..).expect("mapped range");
-    bytemuck::cast_slice(&view).to_vec()
+    common::gpu::dispatch(
+        gpu,
+        "gpu_props",
+        &kernel(),
+        &inputs,
+        cases.len(),
+        cases.len(),
+    )
 }
 
 /// One case's expectation: function index, fluid or tank label, f32 input, Rust f64 value.
@@ -508,11 +443,7 @@ fn rel_err(gpu: f32, rust: f64, scale: f64) -> f64 {
 
 #[test]
 fn wgsl_props_match_rust() {
-    let Some((device, queue, adapter)) = device() else {
-        if std::env::var("CRYOSLOSH_REQUIRE_GPU").as_deref() == Ok("1") {
-            panic!("skipped: no GPU adapter");
-        }
-        println!("skipped: no GPU adapter");
+    let Some((device, queue, adapter)) = common::gpu::device_or_skip() else {
         return;
     };
     println!("adapter: {adapter}");
@@ -561,7 +492,7 @@ fn wgsl_props_match_rust() {
             }
         }
     }
-    let out = run(&device, &queue, &cases, &fluids, &gpu_tanks);
+    let out = run((&device, &queue), &cases, &fluids, &gpu_tanks);
     assert_eq!(out.len(), refs.len());
 
     let names: Vec<&str> = FLUID_FUNCS

@@ -239,6 +239,49 @@ fn signed(v: f64, lo: f64, hi: f64) -> String {
     format!("{} [{}, {}]", s(v), s(lo), s(hi))
 }
 
+/// The highest quantile probability among the differences (NaN without one): the quantile the
+/// side-by-side tables show beside the mean.
+pub fn top_probability(rows: &[DiffRow]) -> f64 {
+    rows.iter()
+        .filter(|r| r.statistic.ends_with("_diff") && r.probability.is_finite())
+        .map(|r| r.probability)
+        .fold(f64::NAN, f64::max)
+}
+
+/// The rows of a side-by-side table of the variants (the run summary's and the report's), as
+/// (quantity, statistic, threshold; NaN for none): the mean and [`top_probability`] quantile of
+/// every [`DIFFERENCE_QOIS`], the threshold probabilities compared for variant `second`, then
+/// the outcome and validity flags for which `raised(flag)` (some variant has a share above 0).
+/// A variant mostly `slosh_out_of_range` (the unbaffled trade baseline) compares numbers the
+/// model does not stand behind, and a table without the flag said nothing of it.
+pub fn side_by_side_lines(
+    rows: &[DiffRow],
+    second: &str,
+    raised: impl Fn(&str) -> bool,
+) -> Vec<(String, String, f64)> {
+    let top = top_probability(rows);
+    let mut lines: Vec<(String, String, f64)> = Vec::new();
+    for q in DIFFERENCE_QOIS {
+        lines.push((q.into(), "mean".into(), f64::NAN));
+        if top.is_finite() {
+            lines.push((q.into(), quantile_name(top), f64::NAN));
+        }
+    }
+    for r in rows.iter().filter(|r| r.variant == second) {
+        if let Some(stat) = r.statistic.strip_suffix("_diff") {
+            if stat.starts_with("prob_") {
+                lines.push((r.quantity.clone(), stat.to_string(), r.threshold));
+            }
+        }
+    }
+    for flag in ["depleted", "pressurant_exhausted", "slosh_out_of_range"] {
+        if raised(flag) {
+            lines.push((flag.into(), "fraction".into(), f64::NAN));
+        }
+    }
+    lines
+}
+
 /// The side-by-side table of the run summary: each variant's mean and upper quantile of every
 /// difference QoI and its threshold probabilities, then each variant's paired differences
 /// against the baseline with the paired interval and, for the mean, the unpaired one.
@@ -250,38 +293,13 @@ pub fn side_by_side(names: &[String], stats: &[Vec<st::Row>], rows: &[DiffRow]) 
         let _ = write!(out, "{n:>width$}");
     }
     out.push('\n');
-    let top = rows
-        .iter()
-        .filter(|r| r.statistic.starts_with('p') && r.probability.is_finite())
-        .map(|r| r.probability)
-        .fold(f64::NAN, f64::max);
-    let mut lines: Vec<(String, String, f64)> = Vec::new();
-    for q in DIFFERENCE_QOIS {
-        lines.push((q.into(), "mean".into(), f64::NAN));
-        if top.is_finite() {
-            lines.push((q.into(), quantile_name(top), f64::NAN));
-        }
-    }
-    for r in rows
-        .iter()
-        .filter(|r| r.variant == names.get(1).cloned().unwrap_or_default())
-    {
-        if r.statistic.starts_with("prob_") {
-            let stat = r.statistic.trim_end_matches("_diff").to_string();
-            lines.push((r.quantity.clone(), stat, r.threshold));
-        }
-    }
-    // The outcome and validity flags some variant raised, as shares of its valid instances: a
-    // variant mostly `slosh_out_of_range` (the unbaffled trade baseline) compares numbers the
-    // model does not stand behind, and the table said nothing of it.
-    for flag in ["depleted", "pressurant_exhausted", "slosh_out_of_range"] {
-        let raised = stats.iter().flatten().any(|r| {
+    let top = top_probability(rows);
+    let second = names.get(1).map(String::as_str).unwrap_or_default();
+    let lines = side_by_side_lines(rows, second, |flag| {
+        stats.iter().flatten().any(|r| {
             r.stat.quantity == flag && r.stat.statistic == "fraction" && r.stat.value > 0.0
-        });
-        if raised {
-            lines.push((flag.into(), "fraction".into(), f64::NAN));
-        }
-    }
+        })
+    });
     for (q, stat, threshold) in &lines {
         let label = if threshold.is_finite() {
             let op = if stat == "prob_exceed" { ">" } else { "<" };

@@ -8,7 +8,7 @@ use super::data::{self, unit_of, StatRow};
 use super::html::{escape, num};
 use super::{fmt_p, report, ReportError, ReportOptions, ReportSummary};
 use crate::campaign::Campaign;
-use crate::montecarlo::differences::{DiffRow, DIFFERENCE_QOIS};
+use crate::montecarlo::differences::{side_by_side_lines, DiffRow};
 use crate::montecarlo::table;
 use crate::montecarlo::variants::variant_dir;
 use crate::output::results_dir::Staging;
@@ -235,27 +235,12 @@ fn side_by_side(h: &mut String, columns: &[Column], rows: &[DiffRow]) {
         let _ = write!(h, "<th>{}</th>", escape(&col.name));
     }
     h.push_str("</tr>\n");
-    let top = rows
-        .iter()
-        .filter(|r| r.statistic.ends_with("_diff") && r.probability.is_finite())
-        .map(|r| r.probability)
-        .fold(f64::NAN, f64::max);
-    let mut lines: Vec<(String, String, f64)> = Vec::new();
-    for q in DIFFERENCE_QOIS {
-        lines.push((q.into(), "mean".into(), f64::NAN));
-        if top.is_finite() {
-            let name = crate::campaign::statistics::quantile_name(top);
-            lines.push((q.into(), name, f64::NAN));
-        }
-    }
     let second = columns.get(1).map(|c| c.name.as_str()).unwrap_or_default();
-    for r in rows.iter().filter(|r| r.variant == second) {
-        if let Some(stat) = r.statistic.strip_suffix("_diff") {
-            if stat.starts_with("prob_") {
-                lines.push((r.quantity.clone(), stat.to_string(), r.threshold));
-            }
-        }
-    }
+    let lines = side_by_side_lines(rows, second, |flag| {
+        columns.iter().flat_map(|c| &c.stats).any(|r| {
+            r.quantity == flag && r.statistic == "fraction" && r.input.is_none() && r.value > 0.0
+        })
+    });
     for (q, stat, threshold) in &lines {
         let label = if threshold.is_finite() {
             let op = if stat == "prob_exceed" {
@@ -270,10 +255,16 @@ fn side_by_side(h: &mut String, columns: &[Column], rows: &[DiffRow]) {
                 escape(unit_of(q))
             )
         } else {
+            // A flag's fraction is a share of the variant's valid instances, not in a unit.
+            let unit = if stat == "fraction" {
+                "share of valid instances"
+            } else {
+                unit_of(q)
+            };
             format!(
                 "<td><code>{}</code> ({})</td><td>{}</td>",
                 escape(q),
-                escape(unit_of(q)),
+                escape(unit),
                 escape(stat)
             )
         };

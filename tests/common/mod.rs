@@ -7,6 +7,8 @@ use cryoslosh::model::state::vapor_energy_offset;
 use std::path::PathBuf;
 
 pub mod fixture;
+pub mod gpu;
+pub mod report;
 
 /// Every shipped campaign.
 pub const CAMPAIGNS: [&str; 6] = [
