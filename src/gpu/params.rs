@@ -1,16 +1,16 @@
 //! What one GPU invocation reads and writes: the instance's parameters and phases in f32, its
 //! initial state split into f32 hi + lo words, and its quantities of interest. Every constant the
-//! kernel shares with the CPU model is emitted from the Rust definitions in [`constants_wgsl`].
+//! kernel shares with the CPU model is emitted from the Rust definitions by
+//! [`super::constants::constants_wgsl`] (re-exported here).
 
-use crate::fluids::{Fluid, HELIUM, R_UNIVERSAL};
+use crate::fluids::{Fluid, HELIUM};
 use crate::gpu::props::{GpuFluid, GpuGas, GpuTank};
 use crate::gpu_struct;
-use crate::model::flight::{
-    Excitation, Phase, PhaseKind, EARTH_RADIUS_M, G0, P_SEA_LEVEL_PA, RHO_SEA_LEVEL, SCALE_HEIGHT_M,
-};
+use crate::model::flight::{Excitation, Phase, PhaseKind};
 use crate::model::params::{Fidelity, Params};
-use crate::model::slosh::MIN_AXIAL_ACCEL;
-use crate::model::state::{self, State, NS};
+use crate::model::state::{State, NS};
+
+pub use super::constants::constants_wgsl;
 
 /// Optional closures present in [`GpuParams::flags`].
 pub mod flag {
@@ -271,7 +271,7 @@ pub fn join(hi: f32, lo: f32) -> f64 {
     f64::from(hi) + f64::from(lo)
 }
 
-fn fidelity_code(f: Fidelity) -> u32 {
+pub(super) fn fidelity_code(f: Fidelity) -> u32 {
     match f {
         Fidelity::Homogeneous => 0,
         Fidelity::Lumped => 1,
@@ -427,7 +427,7 @@ impl Tables {
     }
 }
 
-fn phase_code(k: PhaseKind) -> u32 {
+pub(super) fn phase_code(k: PhaseKind) -> u32 {
     match k {
         PhaseKind::Hold => 0,
         PhaseKind::Burn => 1,
@@ -516,132 +516,4 @@ impl GpuPhase {
 /// The campaign-wide fluid and helium records for `fluid`.
 pub fn fluid_records(fluid: Fluid) -> (GpuFluid, GpuGas) {
     (GpuFluid::new(fluid.props()), GpuGas::new(&HELIUM))
-}
-
-/// WGSL `const` declarations of every number the kernel shares with the CPU model.
-pub fn constants_wgsl() -> String {
-    // Spelled exactly as `gpu_struct!` spells `[f32; NS]`, so that naga sees one type.
-    let mut s = format!("alias St = array<f32, {NS}>;\n");
-    let mut u = |name: &str, v: u32| s += &format!("const {name}: u32 = {v}u;\n");
-    u("NS", NS as u32);
-    for (name, v) in [
-        ("M_V", state::M_V),
-        ("M_G", state::M_G),
-        ("U_U", state::U_U),
-        ("M_S", state::M_S),
-        ("H_S", state::H_S),
-        ("M_B", state::M_B),
-        ("H_B", state::H_B),
-        ("E_WD", state::E_WD),
-        ("E_WW", state::E_WW),
-        ("Q1", state::Q1),
-        ("Q1D", state::Q1D),
-        ("Q2", state::Q2),
-        ("Q2D", state::Q2D),
-        ("VEL", state::VEL),
-        ("ALT", state::ALT),
-        ("P_FILT", state::P_FILT),
-        ("VENT_V", state::VENT_V),
-        ("VENT_G", state::VENT_G),
-        ("OUT", state::OUT),
-        ("PRESS_IN", state::PRESS_IN),
-        ("E_ENV", state::E_ENV),
-        ("E_PRESS", state::E_PRESS),
-        ("E_VENT", state::E_VENT),
-        ("E_OUT", state::E_OUT),
-        ("E_WORK", state::E_WORK),
-    ] {
-        u(name, v as u32);
-    }
-    for (name, v) in [
-        ("FLAG_EVAP_COEFF", flag::EVAP_COEFF),
-        ("FLAG_H_US", flag::H_US),
-        ("FLAG_H_SB", flag::H_SB),
-        ("FLAG_H_WALL_ULLAGE", flag::H_WALL_ULLAGE),
-        ("FLAG_H_WALL_LIQUID", flag::H_WALL_LIQUID),
-        ("FLAG_PRESSURIZATION", flag::PRESSURIZATION),
-        ("FLAG_RELIEF", flag::RELIEF),
-        ("FLAG_AUTOGENOUS", flag::AUTOGENOUS),
-        ("FLAG_INSULATION", flag::INSULATION),
-        ("FLAG_MLI", flag::MLI),
-        (
-            "INSULATION_OUTER_ITERATIONS",
-            crate::model::insulation::OUTER_ITERATIONS,
-        ),
-        (
-            "INSULATION_INNER_ITERATIONS",
-            crate::model::insulation::INNER_ITERATIONS,
-        ),
-        (
-            "INSULATION_FOAM_ITERATIONS",
-            crate::model::insulation::FOAM_ITERATIONS,
-        ),
-        ("EXC_NONE", exc::NONE),
-        ("EXC_STEP", exc::STEP),
-        ("EXC_RAMP", exc::RAMP),
-        ("EXC_SINE", exc::SINE),
-        ("EXC_SWEEP", exc::SWEEP),
-        ("EXC_GUST", exc::GUST),
-        ("EXC_TABLE", exc::TABLE),
-        ("FID_HOMOGENEOUS", fidelity_code(Fidelity::Homogeneous)),
-        ("FID_LUMPED", fidelity_code(Fidelity::Lumped)),
-        ("FID_TWO_MODE", fidelity_code(Fidelity::TwoMode)),
-        ("PHASE_HOLD", phase_code(PhaseKind::Hold)),
-        ("PHASE_BURN", phase_code(PhaseKind::Burn)),
-        ("PHASE_COAST", phase_code(PhaseKind::Coast)),
-        ("DIVERGED_STEP_SIZE", (DIVERGED_REASONS.len() - 1) as u32),
-        (
-            "STIFF_BLEND_ORDER",
-            crate::model::thermal::STIFF_BLEND_ORDER,
-        ),
-    ] {
-        u(name, v);
-    }
-    for (name, v) in [
-        ("G0", G0),
-        ("P_SEA_LEVEL_PA", P_SEA_LEVEL_PA),
-        ("RHO_SEA_LEVEL", RHO_SEA_LEVEL),
-        ("SCALE_HEIGHT_M", SCALE_HEIGHT_M),
-        ("EARTH_RADIUS_M", EARTH_RADIUS_M),
-        ("MIN_AXIAL_ACCEL", MIN_AXIAL_ACCEL),
-        ("R_UNIVERSAL", R_UNIVERSAL),
-        ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
-        ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),
-        ("BULK_MERGE_FRACTION", crate::model::BULK_MERGE_FRACTION),
-        ("BULK_MERGE_DRAIN_S", crate::model::BULK_MERGE_DRAIN_S),
-        ("SLOSH_BOND_MIN", crate::simulate::SLOSH_BOND_MIN),
-        ("SLOSH_ANGLE_MAX_RAD", crate::simulate::SLOSH_ANGLE_MAX_RAD),
-        (
-            "DEPLETION_RESIDUAL_FRACTION",
-            crate::simulate::DEPLETION_RESIDUAL_FRACTION,
-        ),
-        (
-            "PRESSURANT_EMPTY_FRACTION",
-            crate::simulate::PRESSURANT_EMPTY_FRACTION,
-        ),
-        (
-            "ADAPTIVE_STEPS_PER_PERIOD",
-            crate::simulate::adaptive::ADAPTIVE_STEPS_PER_PERIOD,
-        ),
-        (
-            "MIN_STEP_FRACTION",
-            crate::simulate::adaptive::MIN_STEP_FRACTION,
-        ),
-        ("DOPRI_ERROR_ORDER", crate::model::dopri::ERROR_ORDER),
-        (
-            "MIN_INSULATION_TEMPERATURE_K",
-            crate::model::insulation::MIN_INSULATION_TEMPERATURE_K,
-        ),
-        (
-            "MLI_RADIATION_EXPONENT",
-            crate::model::insulation::MLI_RADIATION_EXPONENT,
-        ),
-        (
-            "MLI_GAS_EXPONENT",
-            crate::model::insulation::MLI_GAS_EXPONENT,
-        ),
-    ] {
-        s += &format!("const {name}: f32 = {v:e};\n");
-    }
-    s
 }

@@ -1,0 +1,172 @@
+//! The vehicle's systems around the tank: pressurization (regulator and pressurant), relief
+//! valve, engine and feed line, and the vehicle itself, with ranges and the cross-field rules
+//! between them (a relief valve above MEOP, a regulator set above the crack).
+
+use super::{composition, number, Checker};
+use crate::campaign::raw::RawCampaign;
+use crate::campaign::CampaignError;
+use crate::fluids::Fluid;
+use crate::model::params::{Feed, Pressurization, Relief, Vehicle};
+
+/// `[pressurization]`, if there is one, for propellant `fluid`.
+pub(super) fn pressurization(
+    c: &Checker,
+    raw: &RawCampaign,
+    fluid: Fluid,
+) -> Result<Option<Pressurization>, CampaignError> {
+    raw.pressurization
+        .as_ref()
+        .map(|ps| -> Result<_, CampaignError> {
+            Ok(Pressurization {
+                setpoint_pa: c.positive("pressurization.setpoint_pa", ps.setpoint_pa, 1.0e8)?,
+                kp_kg_per_s_pa: c.range(
+                    "pressurization.kp_kg_per_s_pa",
+                    ps.kp_kg_per_s_pa,
+                    0.0,
+                    1.0,
+                )?,
+                kd_kg_per_pa: c.opt_range(
+                    "pressurization.kd_kg_per_pa",
+                    ps.kd_kg_per_pa,
+                    0.0,
+                    0.0,
+                    10.0,
+                )?,
+                derivative_filter_s: c.opt_range(
+                    "pressurization.derivative_filter_s",
+                    ps.derivative_filter_s,
+                    1.0,
+                    1.0e-3,
+                    1.0e4,
+                )?,
+                max_flow_kg_per_s: c.positive(
+                    "pressurization.max_flow_kg_per_s",
+                    ps.max_flow_kg_per_s,
+                    1.0e3,
+                )?,
+                gas_temperature_k: c.range(
+                    "pressurization.gas_temperature_k",
+                    ps.gas_temperature_k,
+                    4.0,
+                    600.0,
+                )?,
+                bottle_mass_kg: c.range(
+                    "pressurization.bottle_mass_kg",
+                    ps.bottle_mass_kg,
+                    0.0,
+                    1.0e5,
+                )?,
+                // Last: its check reads the setpoint and inlet temperature validated above.
+                gas: composition::pressurant_gas(c, fluid, ps)?,
+            })
+        })
+        .transpose()
+}
+
+/// `[relief]`, if there is one, checked against `tank.meop_pa` = `meop_pa` (Pa) and the
+/// regulator's setpoint.
+pub(super) fn relief(
+    c: &Checker,
+    raw: &RawCampaign,
+    meop_pa: f64,
+) -> Result<Option<Relief>, CampaignError> {
+    raw.relief
+        .as_ref()
+        .map(|r| -> Result<_, CampaignError> {
+            let crack = c.positive("relief.crack_pa", r.crack_pa, 1.0e8)?;
+            // Cross-field rules: a valve that cracks above MEOP lets the tank pass it (allowed
+            // only when stated); a regulator set above the crack vents its own pressurant.
+            if crack > meop_pa && r.crack_above_meop != Some(true) {
+                return Err(c.err(
+                    "relief.crack_pa",
+                    crack,
+                    format!("at most tank.meop_pa = {meop_pa} (or relief.crack_above_meop = true)"),
+                ));
+            }
+            if let Some(ps) = &raw.pressurization {
+                if ps.setpoint_pa >= crack {
+                    return Err(c.err(
+                        "pressurization.setpoint_pa",
+                        ps.setpoint_pa,
+                        format!("below relief.crack_pa = {crack}"),
+                    ));
+                }
+            }
+            Ok(Relief {
+                crack_pa: crack,
+                reseat_pa: if r.reseat_pa < crack {
+                    c.range("relief.reseat_pa", r.reseat_pa, 0.0, crack)?
+                } else {
+                    // A valve that reseats where it cracks would chatter every step.
+                    return Err(c.err(
+                        "relief.reseat_pa",
+                        number(r.reseat_pa),
+                        format!("below relief.crack_pa = {}", number(crack)),
+                    ));
+                },
+                flow_area_m2: c.positive("relief.flow_area_m2", r.flow_area_m2, 10.0)?,
+            })
+        })
+        .transpose()
+}
+
+/// `[engine]` and `[feed]`.
+pub(super) fn feed(c: &Checker, raw: &RawCampaign) -> Result<Feed, CampaignError> {
+    let fd = &raw.feed;
+    Ok(Feed {
+        isp_s: c.opt_range("engine.isp_s", raw.engine.isp_s, 450.0, 1.0, 1.0e4)?,
+        propellant_fraction: c.opt_range(
+            "engine.propellant_fraction",
+            raw.engine.propellant_fraction,
+            1.0,
+            1.0e-3,
+            1.0,
+        )?,
+        line_height_m: c.opt_range("feed.line_height_m", fd.line_height_m, 0.0, -100.0, 100.0)?,
+        line_loss_pa: c.opt_range("feed.line_loss_pa", fd.line_loss_pa, 0.0, 0.0, 1.0e7)?,
+        line_velocity_m_s: c.opt_range(
+            "feed.line_velocity_m_s",
+            fd.line_velocity_m_s,
+            0.0,
+            0.0,
+            200.0,
+        )?,
+        npsh_required_m: c.opt_range(
+            "feed.npsh_required_m",
+            fd.npsh_required_m,
+            0.0,
+            0.0,
+            1.0e4,
+        )?,
+    })
+}
+
+/// `[vehicle]`.
+pub(super) fn vehicle(c: &Checker, raw: &RawCampaign) -> Result<Vehicle, CampaignError> {
+    let v = &raw.vehicle;
+    Ok(Vehicle {
+        dry_mass_kg: c.opt_range("vehicle.dry_mass_kg", v.dry_mass_kg, 0.0, 0.0, 1.0e8)?,
+        drag_area_m2: c.opt_range("vehicle.drag_area_m2", v.drag_area_m2, 0.0, 0.0, 1.0e4)?,
+        initial_velocity_m_s: c.opt_range(
+            "vehicle.initial_velocity_m_s",
+            v.initial_velocity_m_s,
+            0.0,
+            -1.0e4,
+            1.0e5,
+        )?,
+        initial_altitude_m: c.opt_range(
+            "vehicle.initial_altitude_m",
+            v.initial_altitude_m,
+            0.0,
+            0.0,
+            1.0e9,
+        )?,
+        slosh_lever_arm_m: c.opt_range(
+            "vehicle.slosh_lever_arm_m",
+            v.slosh_lever_arm_m,
+            0.0,
+            -1.0e3,
+            1.0e3,
+        )?,
+    })
+}
