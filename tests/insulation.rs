@@ -393,6 +393,56 @@ fn bad_insulation_input_names_key_and_range() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Keys an `[insulation]` section makes meaningless were accepted and ignored: a variant of
+/// the insulated stage setting `tank.heat_leak_w` gave a zero difference, a `--set` or a
+/// dispersion of it changed nothing, a phase `environment` without insulation did nothing, and a
+/// blanket without its layer density read "= NaN". Each is now refused naming the key.
+#[test]
+fn keys_the_insulation_makes_unused_are_refused() {
+    use cryoslosh::campaign::{Campaign, CampaignError};
+    let path = campaign_path("lh2_insulated");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let refused = |text: &str, sets: &[&str]| -> (String, String) {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        match Campaign::from_text(&path, text, &sets) {
+            Ok(_) => panic!("accepted: {sets:?}"),
+            Err(e) => (e.key().unwrap_or_default().to_string(), e.to_string()),
+        }
+    };
+    let (key, msg) = refused(&text, &["tank.heat_leak_w=5"]);
+    assert_eq!(key, "tank.heat_leak_w", "{msg}");
+    assert!(msg.contains("[insulation]"), "{msg}");
+
+    let dispersed = format!(
+        "{text}\n[[dispersions.inputs]]\nkey = \"tank.heat_leak_w\"\ndistribution = \"uniform\"\nlo = 1.0\nhi = 2.0\n"
+    );
+    let last = text.matches("[[dispersions.inputs]]").count();
+    let (key, msg) = refused(&dispersed, &[]);
+    assert_eq!(key, format!("dispersions.inputs.{last}.key"), "{msg}");
+    assert!(msg.contains("tank.heat_leak_w"), "{msg}");
+
+    let variants = format!(
+        "{text}\n[[variants]]\nname = \"as_written\"\n\n[[variants]]\nname = \"leakier\"\n\"tank.heat_leak_w\" = 90.0\n"
+    );
+    let (key, msg) = refused(&variants, &[]);
+    assert_eq!(key, "variants.leakier.tank.heat_leak_w", "{msg}");
+
+    let no_density: String = text
+        .lines()
+        .filter(|l| !l.starts_with("mli_layer_density_per_cm"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let (key, msg) = refused(&no_density, &[]);
+    assert_eq!(key, "insulation.mli_layer_density_per_cm", "{msg}");
+    assert!(msg.contains("(missing)") && !msg.contains("NaN"), "{msg}");
+
+    let bare = campaign_path("lh2_upper_stage");
+    let e = Campaign::load(&bare, &["phases.0.environment=space".to_string()]).unwrap_err();
+    assert!(matches!(e, CampaignError::Invalid { .. }), "{e}");
+    assert_eq!(e.key(), Some("phases.0.environment"), "{e}");
+    assert!(e.to_string().contains("[insulation]"), "{e}");
+}
+
 /// The insulation solve in lockstep lanes (`Lanes`, the CPU engine) is the `f64` solve lane by
 /// lane: a group of dispersed instances (different degradation, foam conductivity and absorbed
 /// flux per lane) gives the one-at-a-time records bit for bit on every level.

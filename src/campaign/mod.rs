@@ -142,6 +142,45 @@ pub struct Campaign {
     pub variants: Vec<variants::Variant>,
 }
 
+/// With `[insulation]` the heat leak comes from the stack and the environment of each phase:
+/// [`INSULATION_REPLACES`] is not used, so a `--set` or a dispersion of it would change nothing
+/// (a variant setting it in an insulated campaign gave a zero difference and said nothing).
+fn unused_with_insulation(
+    c: &Campaign,
+    doc: &toml::Table,
+    overrides: &[String],
+) -> Result<(), CampaignError> {
+    if c.params.insulation.is_none() {
+        return Ok(());
+    }
+    let why = "not used with an [insulation] section (the heat leak comes from the stack and \
+           each phase's environment): set or disperse insulation.* keys instead";
+    for o in overrides {
+        let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k.trim());
+        if canonical_key(doc, key) == INSULATION_REPLACES {
+            return Err(CampaignError::Override {
+                file: c.path.clone(),
+                key: key.to_string(),
+                message: why.to_string(),
+            });
+        }
+    }
+    for (i, input) in c.dispersions.inputs.iter().enumerate() {
+        if canonical_key(doc, &input.key) == INSULATION_REPLACES {
+            return Err(CampaignError::Invalid {
+                file: c.path.clone(),
+                key: format!("dispersions.inputs.{i}.key"),
+                value: input.key.clone(),
+                allowed: format!("a key the model uses: {INSULATION_REPLACES} is {why}"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The key an `[insulation]` section replaces.
+pub const INSULATION_REPLACES: &str = "tank.heat_leak_w";
+
 impl Campaign {
     /// Read, override and validate the campaign at `path`. `overrides` are `key=value` strings.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Campaign, CampaignError> {
@@ -194,6 +233,7 @@ impl Campaign {
                 |key| canonical_key(&doc, key),
             )?;
         }
+        unused_with_insulation(&c, &doc, overrides)?;
         c.statistics = statistics::validate(
             &checker,
             &raw.statistics.clone().unwrap_or_default(),

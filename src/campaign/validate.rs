@@ -399,6 +399,18 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         .map(|(i, ph)| phase(&c, i, ph, dt_default, stepping.max_step_s, dir))
         .collect::<Result<Vec<_>, _>>()?;
     phase_names(&c, &phases)?;
+    // A phase's environment selects the insulation's outer boundary; without a stack the fixed
+    // tank.heat_leak_w applies in every phase, and the key would be ignored without a word.
+    if insulation.is_none() {
+        if let Some(i) = raw.phases.iter().position(|ph| ph.environment.is_some()) {
+            return Err(c.err(
+                &format!("phases.{i}.environment"),
+                raw.phases[i].environment.as_deref().unwrap_or_default(),
+                "no environment without an [insulation] section (the fixed tank.heat_leak_w \
+                 applies in every phase)",
+            ));
+        }
+    }
 
     let params = Params {
         fidelity,

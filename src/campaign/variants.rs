@@ -270,6 +270,23 @@ impl Campaign {
             }
             other => other,
         })?;
+        // An insulated variant computes its heat leak: its own tank.heat_leak_w would change
+        // nothing, and the difference against the baseline would be zero for no stated reason.
+        if c.params.insulation.is_some() {
+            if let Some((key, value)) = v
+                .overrides
+                .iter()
+                .find(|(o, _)| canonical_key(&doc, o) == super::INSULATION_REPLACES)
+            {
+                return Err(invalid(
+                    key,
+                    shown(value),
+                    "a key the variant uses: with an [insulation] section the heat leak comes \
+                     from the stack (override insulation.* keys instead)"
+                        .to_string(),
+                ));
+            }
+        }
         c.record_events = self.record_events;
         Ok(c)
     }

@@ -94,12 +94,17 @@ pub(super) fn insulation(
         .map(|n| {
             Ok::<_, CampaignError>(Mli {
                 layers: c.range(&key("mli_layers"), n, 1.0, 1000.0)?,
-                layer_density_per_cm: c.range(
-                    &key("mli_layer_density_per_cm"),
-                    r.mli_layer_density_per_cm.unwrap_or(f64::NAN),
-                    1.0,
-                    100.0,
-                )?,
+                // Required with a blanket: the layer density sets both conduction terms.
+                layer_density_per_cm: match r.mli_layer_density_per_cm {
+                    Some(v) => c.range(&key("mli_layer_density_per_cm"), v, 1.0, 100.0)?,
+                    None => {
+                        return Err(c.err(
+                            &key("mli_layer_density_per_cm"),
+                            "(missing)",
+                            "a layer density in [1, 100] layers/cm, required with mli_layers",
+                        ))
+                    }
+                },
                 interstitial_pressure_torr: c.opt_range(
                     &key("mli_interstitial_pressure_torr"),
                     r.mli_interstitial_pressure_torr,
