@@ -8,6 +8,7 @@
 //! the model become [`Real::select`] over a [`Mask`]; the transcendental functions the right-hand
 //! side calls most often ([`math`]) are branch-free too, and `f64` uses the same code.
 
+pub mod count;
 pub mod math;
 
 use std::fmt::Debug;
