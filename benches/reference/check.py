@@ -51,6 +51,15 @@ def errors(mine, ref):
     return err
 
 
+def verdict(mine, ref, sens, tol):
+    """(passes, relative errors with the allowed elements zeroed, allowed mask)."""
+    err = errors(mine, ref)
+    allowed = (err > tol) & (np.abs(mine - ref) <= sens)
+    strict = np.where(allowed, 0.0, err)
+    worst = float(np.max(strict))
+    return worst <= tol and np.isfinite(worst), strict, allowed
+
+
 def sensitivity(path):
     """Rounding sensitivity of each rate (rows x components), from the numpy port."""
     constants, structure, cols = L.load(path)
