@@ -1,0 +1,1167 @@
+"""The lumped level's right-hand side of cryoslosh, ported once against an array namespace.
+
+A same-work peer (issue 18): `model::evaluate` for `fidelity = "lumped"` — `derive::derive`
+then `nodes::rhs` (src/model/{derive,nodes,boundary,thermal,slosh}.rs, src/fluids/*,
+src/geometry.rs) — written over arrays of shape (n,), one element per instance, so that numpy
+evaluates n instances per call and JAX can `jit` it (or `vmap` it: every function works on
+scalars too). Branches are `where`; the Newton solves run each element until its own exit, as
+the Rust lanes do (`Backend.loop`).
+
+Every constant of the physics comes from the Parquet file written by
+`examples/rhs_states.rs` (its `cryoslosh_constants` metadata: the propellant's fit
+coefficients, helium, the vapour-energy offset, the slosh tables, the model floors); the only
+numbers typed here are the published correlation constants that the Rust code has inline
+(Churchill–Chu 0.825/0.387/0.492, McAdams 0.27, Lloyd–Moran 0.15, SP-106 4.98/0.318/1.84,
+Miles 2.83/4.6, the Dacron factor is not needed: no insulation) and the solvers' iteration caps
+and tolerances, each next to the Rust line it mirrors.
+
+Not ported: `[insulation]` (the Lockheed MLI / foam leak solve, src/model/insulation.rs), the
+`homogeneous` and `two_mode` levels. `make_rhs` refuses such inputs.
+"""
+
+import math
+
+PI = math.pi
+
+# State slots (src/model/state.rs).
+M_V, M_G, U_U, M_S, H_S, M_B, H_B, E_WD, E_WW, Q1, Q1D, Q2, Q2D, VEL, ALT, P_FILT = range(16)
+VENT_V, VENT_G, OUT, PRESS_IN, E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK = range(16, 25)
+NS = 25
+
+# Solver caps and tolerances, private constants of the Rust code.
+FLUID_MAX_ITER = 40  # fluids/mod.rs MAX_ITER
+T_FROM_H_TOL = 1e-12  # fluids/mod.rs T_FROM_H_TOL
+ULLAGE_NEWTON_MAX = 16  # model/derive.rs
+ULLAGE_NEWTON_TOL = 1e-13  # model/derive.rs
+CAP_MAX_ROUNDS = 100  # geometry.rs cap_fraction
+SERIES_LIMIT = 1e-2  # geometry.rs
+F64_EPS = 2.220446049250313e-16
+
+
+class Backend:
+    """The array namespace and the two control-flow forms the port needs."""
+
+    def __init__(self, name):
+        self.name = name
+        if name == "numpy":
+            import numpy as xp
+
+            self.xp = xp
+        elif name == "jax":
+            import jax
+
+            jax.config.update("jax_enable_x64", True)
+            import jax.numpy as xp
+
+            self.xp = xp
+            self.lax = jax.lax
+        else:
+            raise ValueError(name)
+
+    def where(self, m, a, b):
+        return self.xp.where(m, a, b)
+
+    def loop(self, n, body, carry, done_of):
+        """Up to `n` rounds of `carry = body(carry)`, stopping once `done_of(carry)` is all
+        true (each element stops moving on its own inside `body`)."""
+        if self.name == "numpy":
+            for _ in range(n):
+                if bool(self.xp.all(done_of(carry))):
+                    break
+                carry = body(carry)
+            return carry
+        lax = self.lax
+
+        def cond(c):
+            i, inner = c
+            return (i < n) & ~self.xp.all(done_of(inner))
+
+        def step(c):
+            i, inner = c
+            return i + 1, body(inner)
+
+        return lax.while_loop(cond, step, (0, carry))[1]
+
+
+def poly(c, x):
+    acc = 0.0 * x
+    for a in reversed(c):
+        acc = acc * x + a
+    return acc
+
+
+def poly_deriv(c, x):
+    acc = 0.0 * x
+    for i in range(len(c) - 1, 0, -1):
+        acc = acc * x + i * c[i]
+    return acc
+
+
+RECIPROCALS = [1.0, 1.0 / 2.0, 1.0 / 3.0, 1.0 / 4.0, 1.0 / 5.0, 1.0 / 6.0, 1.0 / 7.0, 1.0 / 8.0]
+
+
+def poly_integral(c, x):
+    acc = 0.0 * x
+    for i in range(len(c) - 1, -1, -1):
+        acc = acc * x + c[i] * RECIPROCALS[i]
+    return acc * x
+
+
+def poly_f(c, x):
+    """`poly` on a Python float (the Rust code's f64 constants such as poly(c, −1))."""
+    acc = 0.0
+    for a in reversed(c):
+        acc = acc * x + a
+    return acc
+
+
+def poly_integral_f(c, x):
+    acc = 0.0
+    for i in range(len(c) - 1, -1, -1):
+        acc = acc * x + c[i] * RECIPROCALS[i]
+    return acc * x
+
+
+class Fluid:
+    """`FluidProps` (src/fluids/mod.rs, vapor.rs) of one propellant."""
+
+    def __init__(self, b, f):
+        self.b, self.xp, self.f = b, b.xp, f
+        self.t_min, self.t_max = f["t_min_k"], f["t_max_k"]
+        self.t_mid = 0.5 * (self.t_min + self.t_max)
+        self.t_half = 0.5 * (self.t_max - self.t_min)
+        self.rs = None  # set by Model (needs R_UNIVERSAL)
+        dh = f["dh_l_sat"]
+        self.base = poly_integral_f(dh, -1.0)
+        self.h_max = (poly_integral_f(dh, 1.0) - self.base) * self.t_half
+        self.cp_lo, self.cp_hi = poly_f(dh, -1.0), poly_f(dh, 1.0)
+
+    def x_of(self, t):
+        return (t - self.t_mid) / self.t_half
+
+    def xc(self, t):
+        return self.xp.clip(self.x_of(t), -1.0, 1.0)
+
+    def t_of(self, x):
+        return x * self.t_half + self.t_mid
+
+    def psat_and_slope(self, t):
+        xp = self.xp
+        x = self.x_of(t)
+        xc = xp.clip(x, -1.0, 1.0)
+        s = poly_deriv(self.f["ln_psat"], xc)
+        ln_p = poly(self.f["ln_psat"], xc) + s * (x - xc)
+        p = xp.exp(xp.clip(ln_p, -700.0, 700.0))
+        limited = xp.abs(ln_p) > 700.0
+        return p, xp.where(limited, 0.0, p * s / self.t_half)
+
+    def rho_l(self, t):
+        return poly(self.f["rho_l"], self.xc(t))
+
+    def drho_l_dt(self, t):
+        x = self.x_of(t)
+        inside = poly_deriv(self.f["rho_l"], self.xp.clip(x, -1.0, 1.0)) / self.t_half
+        return self.xp.where(self.xp.abs(x) > 1.0, 0.0, inside)
+
+    def cp_l(self, t):
+        return poly(self.f["cp_l"], self.xc(t))
+
+    def h_fg(self, t):
+        return poly(self.f["h_fg"], self.xc(t))
+
+    def k_l(self, t):
+        return poly(self.f["k_l"], self.xc(t))
+
+    def mu_l(self, t):
+        return self.xp.exp(poly(self.f["ln_mu_l"], self.xc(t)))
+
+    def dh_l_dt(self, t):
+        return poly(self.f["dh_l_sat"], self.xc(t))
+
+    def h_l_above(self, x):
+        return (poly_integral(self.f["dh_l_sat"], x) - self.base) * self.t_half
+
+    def h_l(self, t):
+        xp = self.xp
+        below = (t - self.t_min) * self.cp_lo
+        above = (t - self.t_max) * self.cp_hi + self.h_max
+        inside = self.h_l_above(self.xc(t))
+        h = xp.where(t >= self.t_max, above, inside)
+        return xp.where(t <= self.t_min, below, h)
+
+    def t_from_h_l(self, h):
+        """`invert_h_l` from `FluidProps::t_from_h_l_k`'s start (the Rust RHS starts from a
+        Hermite table, `fluids/inverse.rs`; both converge to the root within rounding)."""
+        xp, b = self.xp, self.b
+        dh = self.f["dh_l_sat"]
+        below = h / self.cp_lo + self.t_min
+        above = (h - self.h_max) / self.cp_hi + self.t_max
+        le0, ge_max, nan = h <= 0.0, h >= self.h_max, xp.isnan(h)
+        start = xp.clip(2.0 * h / self.h_max - 1.0, -1.0, 1.0)
+        start = xp.where(nan, 0.0, start)
+        one = xp.ones_like(h)
+
+        def body(c):
+            x, lo, hi, done = c
+            f = self.h_l_above(x) - h
+            zero = f == 0.0
+            moving = ~done & ~zero
+            hi = xp.where(moving & (f > 0.0), x, hi)
+            lo = xp.where(moving & (f < 0.0), x, lo)
+            x_newton = x - f / (poly(dh, x) * self.t_half)
+            converged = xp.abs((x_newton - x) * self.t_half) <= self.t_of(x) * T_FROM_H_TOL
+            inside = (x_newton > lo) & (x_newton < hi)
+            nxt = xp.where(inside, x_newton, (lo + hi) * 0.5)
+            bracketed = (hi - lo) * self.t_half <= self.t_of(nxt) * T_FROM_H_TOL
+            step = xp.where(converged, xp.clip(x_newton, -1.0, 1.0), nxt)
+            x = xp.where(moving, step, x)
+            done = done | zero | (moving & (converged | bracketed))
+            return x, lo, hi, done
+
+        x, _, _, _ = b.loop(
+            FLUID_MAX_ITER, body, (start, -one, one, le0 | ge_max | nan), lambda c: c[3]
+        )
+        t = xp.where(ge_max, above, self.t_of(x))
+        t = xp.where(le0, below, t)
+        return xp.where(nan, h, t)
+
+    def vapor_transport(self, t):
+        xp = self.xp
+        f = self.f
+        l = xp.log(xp.clip(t, 1.0, 10000.0) / f["vapor_t_ref_k"])
+        return (
+            xp.exp(l * f["k_vapor_exp"]) * f["k_vapor_ref_w_per_m_k"],
+            xp.exp(l * f["mu_vapor_exp"]) * f["mu_vapor_ref_pa_s"],
+        )
+
+    def vapor_ideal(self, t):
+        xp, f = self.xp, self.f
+        lo, hi = f["ideal_t_lo_k"], f["ideal_t_hi_k"]
+        s_lo, s_hi = math.sqrt(lo), math.sqrt(hi)
+        inv_span = 1.0 / (s_hi - s_lo)
+        tc = xp.clip(t, lo, hi)
+        s = xp.sqrt(tc)
+        x = (s - s_lo) * (2.0 * inv_span) - 1.0
+        q = dq = 0.0 * t
+        for k in range(len(f["vapor_ideal"]) - 1, -1, -1):
+            dq = dq * x + q
+            q = q * x + f["vapor_ideal"][k]
+        cv = q + dq * s * inv_span
+        return (tc * q + cv * (t - tc)) * self.rs, cv * self.rs
+
+    def virial(self, t, rho):
+        xp, f = self.xp, self.f
+        tau = f["t_crit_k"] / xp.maximum(t, 1.0)
+        y = tau - 1.0
+        r = rho / f["rho_crit_kg_per_m3"]
+        z = u = dz = 0.0 * t
+        for k in range(4, 0, -1):
+            c = f["vapor_virial"][(k - 1) * 6 : k * 6]
+            bb = db = 0.0 * t
+            for j in range(5, -1, -1):
+                bb = bb * y + c[j]
+                if j > 0:
+                    db = db * y + j * c[j]
+            z = (z + bb) * r
+            u = (u + tau * db * (1.0 / k)) * r
+            dz = (dz + bb * (k + 1)) * r
+        return z + 1.0, u, dz
+
+    def vapor_h_res_at_tp(self, t, p):
+        xp = self.xp
+        rt = xp.maximum(t, 1.0) * self.rs
+        rho = xp.maximum(p, 0.0) / rt
+        for _ in range(2):
+            z, _, dz = self.virial(t, rho)
+            slope = xp.maximum(dz + 1.0, 0.1)
+            rho = xp.maximum(rho - (rho * z - p / rt) / slope, rho * 0.5)
+        z, u, _ = self.virial(t, rho)
+        return (u + z - 1.0) * rt
+
+    def vapor_state(self, t_k, rho):
+        xp, f = self.xp, self.f
+        t = xp.maximum(t_k, 1.0)
+        tau = f["t_crit_k"] / t
+        y = tau - 1.0
+        r = rho / f["rho_crit_kg_per_m3"]
+        z = kz = u = b1_sum = u2 = 0.0 * t
+        for k in range(4, 0, -1):
+            c = f["vapor_virial"][(k - 1) * 6 : k * 6]
+            bb = b1 = b2 = 0.0 * t
+            for j in range(5, -1, -1):
+                bb = bb * y + c[j]
+                if j > 0:
+                    b1 = b1 * y + j * c[j]
+                if j > 1:
+                    b2 = b2 * y + (j * (j - 1)) * c[j]
+            kf = float(k)
+            z = (z + bb) * r
+            kz = (kz + bb * kf) * r
+            u = (u + b1 * (1.0 / kf)) * r
+            b1_sum = b1_sum * r + b1
+            u2 = (u2 + b2 * (1.0 / kf)) * r
+        rs = self.rs
+        rt = t * rs
+        z_full = z + 1.0
+        rtc = rs * f["t_crit_k"]
+        dz_dt = -(tau / t) * b1_sum * r
+        return dict(
+            z=z_full,
+            u_res=u * rtc,
+            du_res_dt=-(tau / t) * u2 * rtc,
+            du_res_drho=b1_sum * (rtc / f["rho_crit_kg_per_m3"]),
+            p=rho * rt * z_full,
+            dp_dt=rho * rs * (z_full + t * dz_dt),
+            dp_drho=rt * (kz + z_full),
+        )
+
+
+class Tank:
+    """`TankLanes` (src/geometry.rs) from (R, L, k) per element; `shape` shared:
+    0 cylinder, 1 capsule, 2 sphere."""
+
+    def __init__(self, b, shape, radius, length, k):
+        xp = b.xp
+        self.b, self.xp, self.shape = b, xp, shape
+        self.radius, self.length, self.k = radius, length, k
+        self.e = (1.0 - k) * (1.0 + k)
+        self.c = k * k * radius
+        self.disc_area = PI * radius * radius
+        if shape == 0:
+            self.a = 0.0 * radius
+            self.height = length
+            self.volume = self.disc_area * length
+            self.dome_volume = 0.0 * radius
+            self.dome_area = self.disc_area
+            self.wall_area = 2.0 * self.disc_area + 2.0 * PI * radius * length
+        else:
+            self.a = k * radius
+            self.height = length + 2.0 * self.a
+            self.dome_volume = 2.0 / 3.0 * PI * radius * radius * self.a
+            self.volume = 2.0 * self.dome_volume + self.disc_area * length
+            self.dome_area = self.zone_area(self.a)
+            self.wall_area = 2.0 * self.dome_area + 2.0 * PI * radius * length
+        del xp
+
+    def liquid_height(self, volume):
+        xp = self.xp
+        v = xp.where(volume > 0.0, xp.minimum(volume, self.volume), 0.0)
+        full = v >= self.volume
+        if self.shape == 0:
+            return xp.where(full, self.height, xp.minimum(v / self.disc_area, self.height))
+        bottom = v <= self.dome_volume
+        cap_v = xp.where(bottom, v, self.volume - v)
+        w = self.a * cap_fraction(self.b, cap_v * 2.0 / self.dome_volume)
+        cyl = xp.minimum(
+            xp.maximum(self.a + (v - self.dome_volume) / self.disc_area, self.a),
+            self.a + self.length,
+        )
+        top = xp.maximum(self.height - w, 0.0)
+        z = xp.where(v < self.volume - self.dome_volume, cyl, top)
+        z = xp.where(bottom, w, z)
+        return xp.where(full, self.height, z)
+
+    def clamp_z(self, z):
+        return self.xp.where(z > 0.0, self.xp.minimum(z, self.height), 0.0)
+
+    def dome_depth(self, z):
+        xp = self.xp
+        top = xp.maximum(self.height - z, 0.0)
+        w = xp.where(z < self.a + self.length, self.a, top)
+        return xp.where(z <= self.a, z, w)
+
+    def surface_radius(self, z):
+        if self.shape == 0:
+            return self.radius + 0.0 * z
+        xp = self.xp
+        w = self.dome_depth(self.clamp_z(z))
+        dome = xp.sqrt(w * (self.a * 2.0 - w)) / self.k
+        return xp.where(w >= self.a, self.radius, dome)
+
+    def interface_area(self, z):
+        if self.shape == 0:
+            return self.disc_area + 0.0 * z
+        xp = self.xp
+        w = self.dome_depth(self.clamp_z(z))
+        dome = w * PI * (self.a * 2.0 - w) / (self.k * self.k)
+        return xp.where(w >= self.a, self.disc_area, dome)
+
+    def wetted_area(self, z_m):
+        xp = self.xp
+        z = self.clamp_z(z_m)
+        if self.shape == 0:
+            side = self.disc_area + self.radius * (2.0 * PI) * z
+            return xp.where(z >= self.height, self.wall_area, side)
+        z1 = self.a
+        z2 = self.a + self.length
+        bottom = z <= z1
+        zone = self.zone_area(xp.where(bottom, z, self.height - z))
+        cyl = self.dome_area + self.radius * (2.0 * PI) * (z - z1)
+        top = xp.maximum(self.wall_area - zone, 0.0)
+        return xp.where(bottom, zone, xp.where(z < z2, cyl, top))
+
+    def wetted_area_slope(self, z):
+        side = self.radius * (2.0 * PI)
+        if self.shape == 0:
+            return side + 0.0 * z
+        w = self.dome_depth(self.clamp_z(z))
+        dome = self.zone_integrand(w) * (2.0 * PI) / (self.k * self.k)
+        return self.xp.where(w >= self.a, side, dome)
+
+    def zone_integrand(self, w):
+        xp = self.xp
+        s = self.a - w
+        oblate = xp.sqrt(self.c * self.c + self.e * s * s)
+        prolate = xp.sqrt(self.a * self.a - self.e * w * (self.a * 2.0 - w))
+        return xp.where(self.e >= 0.0, oblate, prolate)
+
+    def zone_area(self, w):
+        xp = self.xp
+        a = self.a
+        w = xp.minimum(xp.maximum(w, 0.0), a)
+        s1 = a - w
+        s2 = a
+        big1 = self.zone_integrand(w)
+        big2 = a
+        c2 = self.c * self.c
+        ds2 = w * (a * 2.0 - w)
+        term1 = (c2 + self.e * (s1 * s1 + s2 * s2)) / (s2 * big2 + s1 * big1)
+        cross = s2 * big1 + s1 * big2
+        d = xp.sqrt(xp.abs(self.e)) * ds2 / cross
+        series = d < SERIES_LIMIT
+        oblate = self.e > 0.0
+        g = xp.where(oblate, asinh_over_x(xp, d), asin_over_x(d))
+        steep = ~oblate & ~series
+        cos_d = (big1 * big2 + xp.abs(self.e) * s1 * s2) / c2
+        g = xp.where(steep, xp.arctan2(d, cos_d) / d, g)
+        term2 = c2 * g / cross
+        integral = ds2 * 0.5 * (term1 + term2)
+        area = integral * (2.0 * PI) / (self.k * self.k)
+        return xp.where(w <= 0.0, 0.0, area)
+
+
+def asinh_over_x(xp, x):
+    x2 = x * x
+    series = 1.0 - x2 * (1.0 / 6.0 - x2 * (3.0 / 40.0 - x2 * (5.0 / 112.0)))
+    y = x + x2 / (xp.sqrt(x2 + 1.0) + 1.0)
+    u = y + 1.0
+    log1p = xp.log(u) - ((u - 1.0) - y) / u
+    return xp.where(x < SERIES_LIMIT, series, log1p / x)
+
+
+def asin_over_x(x):
+    x2 = x * x
+    return x2 * (x2 * (x2 * (5.0 / 112.0) + 3.0 / 40.0) + 1.0 / 6.0) + 1.0
+
+
+def cap_fraction(b, q):
+    xp = b.xp
+    empty = xp.isnan(q) | (q <= 0.0)
+    full = q >= 2.0
+    lo = xp.sqrt(q / 3.0)
+    hi = xp.minimum(xp.sqrt(q / 2.0), 1.0)
+    theta = (2.0 * PI - xp.arccos(xp.clip(q * 0.5 - 1.0, -1.0, 1.0))) / 3.0
+    guess = 1.0 - xp.cos(theta) * 2.0
+    t = xp.where((guess > lo) & (guess < hi), guess, (lo + hi) * 0.5)
+
+    def body(c):
+        t, lo, hi, done = c
+        f = t * t * (3.0 - t) - q
+        moving = ~done & ~(f == 0.0)
+        hi = xp.where(moving & (f > 0.0), t, hi)
+        lo = xp.where(moving & (f < 0.0), t, lo)
+        fp = t * 3.0 * (2.0 - t)
+        newton = t - f / fp
+        converged = xp.abs(newton - t) <= t * (2.0 * F64_EPS)
+        nxt = xp.where((newton > lo) & (newton < hi), newton, (lo + hi) * 0.5)
+        bracketed = (hi - lo) <= hi * F64_EPS
+        t = xp.where(moving, xp.where(converged, newton, nxt), t)
+        done = done | ~moving | converged | bracketed
+        return t, lo, hi, done
+
+    t, _, _, _ = b.loop(CAP_MAX_ROUNDS, body, (t, lo, hi, empty | full), lambda c: c[3])
+    t = xp.where(full, 1.0, t)
+    return xp.where(empty, 0.0, t)
+
+
+class Model:
+    """The right-hand side of one campaign's rows: structure (shape, optional systems, which
+    closures are set) from the first row, every number per row, like `model::Group`."""
+
+    def __init__(self, backend, constants, structure):
+        self.b = b = Backend(backend) if isinstance(backend, str) else backend
+        xp = b.xp
+        k = constants
+        if k["fidelity"] != "lumped":
+            raise NotImplementedError("only the lumped level is ported")
+        if structure["has_insulation"]:
+            raise NotImplementedError("[insulation] is not ported")
+        self.k = k
+        self.st = structure
+        self.fl = Fluid(b, k["fluid_props"])
+        self.fl.rs = k["r_universal"] / k["fluid_props"]["molar_mass_kg_per_mol"]
+        he = k["helium"]
+        self.he = he
+        self.he_r = k["r_universal"] / he["molar_mass_kg_per_mol"]
+        self.off = k["vapor_energy_offset_j_per_kg"]
+        t = k["slosh_table"]
+        self.tab = {n: xp.asarray(t[n]) for n in ("bottom", "barrel", "top")}
+        self.t = t
+
+    # --- helpers ---------------------------------------------------------------------------
+
+    def he_transport(self, t):
+        xp, he = self.b.xp, self.he
+        l = xp.log(xp.clip(t, 1.0, 10000.0) / he["t_ref_k"])
+        return xp.exp(l * he["k_exp"]) * he["k_ref_w_per_m_k"], xp.exp(l * he["mu_exp"]) * he[
+            "mu_ref_pa_s"
+        ]
+
+    def closure(self, p, name, correlation):
+        if self.st[name]:
+            return p[name]
+        return correlation()
+
+    # --- slosh (src/model/slosh.rs) ------------------------------------------------------
+
+    def mode_shape(self, n, hr_raw):
+        xp = self.b.xp
+        xi = self.k["xi"][n]
+        hr = xp.maximum(hr_raw, self.k["min_depth_ratio"])
+        th = 1.0 - 2.0 / (xp.exp(hr * (2.0 * xi)) + 1.0)
+        return dict(
+            mass_ratio=th * 2.0 / (hr * (xi * (xi * xi - 1.0))),
+            length_ratio=1.0 / (th * xi),
+            omega2_ratio=th * xi,
+        )
+
+    def _cell(self, n, x):
+        xp = self.b.xp
+        x = xp.where(xp.isnan(x), 0.0, xp.clip(x, 0.0, float(n - 1)))
+        i = xp.minimum(xp.floor(x), float(n - 2))
+        return i.astype(int), x - i
+
+    def _linear(self, n, x):
+        i, t = self._cell(n, x)
+        return [i, i + 1], [1.0 - t, t]
+
+    def _catmull_rom(self, n, x):
+        xp = self.b.xp
+        i, t = self._cell(n, x)
+        t2, t3 = t * t, t * t * t
+        w0 = 0.5 * (-t3 + 2.0 * t2 - t)
+        w1 = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0)
+        w2 = 0.5 * (-3.0 * t3 + 4.0 * t2 + t)
+        w3 = 0.5 * (t3 - t2)
+        idx = [xp.maximum(i - 1, 0), i, i + 1, xp.minimum(i + 2, n - 1)]
+        first = i == 0
+        w1, w2, w0 = (
+            xp.where(first, w1 + 2.0 * w0, w1),
+            xp.where(first, w2 - w0, w2),
+            xp.where(first, 0.0, w0),
+        )
+        last = i + 2 > n - 1
+        w2, w1, w3 = (
+            xp.where(last, w2 + 2.0 * w3, w2),
+            xp.where(last, w1 - w3, w1),
+            xp.where(last, 0.0, w3),
+        )
+        return idx, [w0, w1, w2, w3]
+
+    def _column(self, data, base, n, x):
+        xp = self.b.xp
+        idx, w = self._catmull_rom(n, x)
+        out = [0.0 * x for _ in range(4)]
+        for j, wj in zip(idx, w):
+            for q in range(4):
+                out[q] = out[q] + wj * xp.take(data, base + 4 * j + q)
+        return out
+
+    def domed_modes(self, k, l_over_r, z_over_r, v_over_r3):
+        xp, t = self.b.xp, self.t
+        kn, kw = self._linear(t["nk"], (xp.log2(k) - t["log2k_0"]) / t["log2k_step"])
+        l = xp.maximum(l_over_r, 0.0)
+        z = xp.maximum(z_over_r, 0.0)
+        v = xp.maximum(v_over_r3, 1e-300)
+        ns, nb, nt, nbeta = t["n_sigma"], t["n_barrel"], t["n_top"], t["n_beta"]
+        # Bottom dome.
+        xb = xp.sqrt(xp.maximum(z / k, 0.0)) * (ns - 1)
+        q_bot = [0.0 * z] * 4
+        for i, w in zip(kn, kw):
+            c = self._column(self.tab["bottom"], 4 * i * ns, ns, xb)
+            q_bot = [a + w * cc for a, cc in zip(q_bot, c)]
+        # Barrel.
+        xr = xp.sqrt(xp.maximum((z - k) / t["barrel_h_max"], 0.0)) * (nb - 1)
+        q_bar = [0.0 * z] * 4
+        for i, w in zip(kn, kw):
+            c = self._column(self.tab["barrel"], 4 * i * nb, nb, xr)
+            q_bar = [a + w * cc for a, cc in zip(q_bar, c)]
+        # Top dome.
+        u = xp.minimum((z - k - l) / k, 1.0)
+        rs = xp.maximum(xp.sqrt(xp.maximum(1.0 - u * u, 0.0)), self.k["min_surface_radius_ratio"])
+        xt = u / t["top_u_max"] * (nt - 1)
+        beta = xp.exp(-2.0 * self.k["xi"][0] * l) * (nbeta - 1)
+        bn, bw = self._linear(nbeta, beta)
+        q_top = [0.0 * z] * 4
+        for i, w in zip(kn, kw):
+            for bb, wb in zip(bn, bw):
+                base = 4 * nt * (bb + nbeta * i)
+                c = self._column(self.tab["top"], base, nt, xt)
+                q_top = [a + w * wb * cc for a, cc in zip(q_top, c)]
+        m = rs * rs * rs / v
+        in_bot = z <= k
+        in_bar = z < k + l
+        q = [xp.where(in_bot, a, xp.where(in_bar, bb, c)) for a, bb, c in zip(q_bot, q_bar, q_top)]
+        one = 1.0 + 0.0 * z
+        s_om = xp.where(in_bot, one, xp.where(in_bar, one, 1.0 / rs))
+        s_m = xp.where(in_bot, one, xp.where(in_bar, 1.0 / v, m))
+        modes = []
+        for n in range(2):
+            omega2 = q[2 * n] * s_om
+            modes.append(
+                dict(mass_ratio=q[2 * n + 1] * s_m, length_ratio=1.0 / omega2, omega2_ratio=omega2)
+            )
+        return modes
+
+    def tank_modes(self, tank, level, v_liquid):
+        if tank.shape == 0:
+            r = tank.radius
+            h = v_liquid / (r * r * PI)
+            return [self.mode_shape(0, h / r), self.mode_shape(1, h / r)]
+        r = tank.radius
+        return self.domed_modes(tank.k, tank.length / r, level / r, v_liquid / (r * r * r))
+
+    def wall_damping(self, nu, r, a_ax, h_over_r):
+        xp = self.b.xp
+        hr = xp.maximum(h_over_r, self.k["min_depth_ratio"])
+        x = hr * 1.84
+        e = xp.exp(x)
+        inv = 1.0 / xp.exp(x)
+        sinh, cosh = (e - inv) * 0.5, (e + inv) * 0.5
+        shape = 0.318 / sinh * (((1.0 - hr) / cosh) + 1.0) + 1.0
+        a = xp.maximum(a_ax, self.k["min_axial_accel"])
+        return xp.sqrt(nu) * (4.98 / (2.0 * PI)) * shape / xp.sqrt(xp.sqrt(r * r * r * a))
+
+    def baffle_damping(self, p, r, z_surface):
+        xp = self.b.xp
+        rings = self.st["max_baffle_count"]
+        if rings == 0:
+            return 0.0 * r
+        width = p["baffle_width_m"]
+        top, spacing = p["baffle_top_height_m"], p["baffle_spacing_m"]
+        w = xp.minimum(width / r, 1.0)
+        alpha = w * (2.0 - w)
+        total = 0.0 * r
+        for k in range(rings):
+            z_ring = top - spacing * float(k)
+            depth = z_surface - z_ring
+            under = (depth >= 0.0) & (k < p["baffle_count"])
+            total = total + xp.where(under, xp.exp(depth * -4.6 / r), 0.0)
+        zeta = xp.sqrt(p["baffle_wave_amplitude_m"] / r) * 2.83 * total * alpha * xp.sqrt(alpha)
+        none = (p["baffle_count"] == 0) | (width <= 0.0)
+        return xp.where(none, 0.0, zeta)
+
+    # --- derive (src/model/derive.rs) ----------------------------------------------------
+
+    def derive(self, p, s, d):
+        xp, fl, k = self.b.xp, self.fl, self.k
+        x = {}
+        m_s = xp.maximum(s[M_S], 1e-12)
+        m_b = xp.maximum(s[M_B], 1e-12)
+        x["t_layer"] = fl.t_from_h_l(s[H_S] / m_s)
+        bulk_gone = s[M_B] <= 0.0
+        h_bulk = xp.where(bulk_gone, s[H_S] / m_s, s[H_B] / m_b)
+        x["t_bulk"] = xp.where(bulk_gone, x["t_layer"], fl.t_from_h_l(h_bulk))
+        x["rho_layer"] = fl.rho_l(x["t_layer"])
+        x["rho_bulk"] = fl.rho_l(x["t_bulk"])
+        x["v_layer"] = s[M_S] / x["rho_layer"]
+        x["v_bulk"] = s[M_B] / x["rho_bulk"]
+        x["m_liquid"] = s[M_S] + s[M_B]
+        v_l = x["v_layer"] + x["v_bulk"]
+        tank = self.tank
+        # fill_level
+        z = tank.liquid_height(v_l)
+        x["level"] = z
+        floor = 1.0e-6 * p["tank_radius_m"] ** 2
+        x["interface_area"] = xp.maximum(tank.interface_area(z), floor)
+        wall = tank.wall_area
+        raw = tank.wetted_area(z) / wall
+        mws = k["min_wall_share"]
+        clamped = (raw <= mws) | (raw >= 1.0 - mws)
+        slope = tank.wetted_area_slope(z) / wall
+        x["wetted_share"] = xp.where(clamped, xp.clip(raw, mws, 1.0 - mws), raw)
+        x["wetted_share_slope"] = xp.where(clamped, 0.0, slope)
+        nu = fl.mu_l(x["t_bulk"]) / x["rho_bulk"]
+        # motion
+        m_tank = x["m_liquid"] + s[M_V] + s[M_G]
+        frac = p["feed_propellant_fraction"]
+        other_used = s[OUT] * (1.0 / frac - 1.0)
+        mass = xp.maximum(p["vehicle_dry_mass_kg"] + m_tank - other_used, 1.0)
+        v = s[VEL]
+        rho_air = xp.exp(-xp.maximum(s[ALT], 0.0) / k["scale_height_m"]) * k["rho_sea_level"]
+        drag = rho_air * 0.5 * v * xp.abs(v) * p["vehicle_drag_area_m2"]
+        a = xp.where(d["d_flying"], (d["d_thrust_n"] - drag) / mass, 0.0)
+        a_ax = xp.maximum(a + d["d_gravity_m_s2"] + d["d_a_ax_extra"], k["min_axial_accel"])
+        x["vehicle_mass"], x["drag"], x["a_ax"] = mass, drag, a_ax
+        a_total = xp.sqrt(a_ax * a_ax + d["d_a_lat"] * d["d_a_lat"])
+        # slosh_params
+        radius = p["tank_radius_m"]
+        r_eq = xp.maximum(tank.surface_radius(z), radius * k["min_surface_radius_ratio"])
+        h_eq = v_l / (r_eq * r_eq * PI)
+        zeta = (
+            self.wall_damping(nu, r_eq, a_total, h_eq / r_eq)
+            + self.baffle_damping(p, r_eq, z)
+            + p["extra_damping"]
+        )
+        modes = self.tank_modes(tank, z, v_l)
+        x["slosh_mass"] = [m["mass_ratio"] * x["m_liquid"] for m in modes]
+        x["slosh_length"] = [m["length_ratio"] * radius for m in modes]
+        x["slosh_omega"] = [xp.sqrt(m["omega2_ratio"] * a_total / radius) for m in modes]
+        x["slosh_zeta"] = [zeta, zeta]
+        angle = s[Q1]
+        x["v_ullage"] = tank.volume - v_l + p["coupling_volume_m3"] * xp.sin(angle)
+        rho_v = s[M_V] / x["v_ullage"]
+        t_u, vapor = self.ullage_temperature(s[M_V], s[M_G], s[U_U], rho_v)
+        x["t_ullage"] = t_u
+        x["m_vapor"] = s[M_V]
+        x["p_vapor"] = vapor["p"]
+        x["p_ullage"] = x["p_vapor"] + s[M_G] * self.he_r * t_u / x["v_ullage"]
+        mc = p["wall_areal_mass_kg_per_m2"] * tank.wall_area * p["wall_cp_j_per_kg_k"]
+        wet = x["wetted_share"]
+        x["t_wall_dry"] = s[E_WD] / (mc * (1.0 - wet))
+        x["t_wall_wet"] = s[E_WW] / (mc * wet)
+        return x
+
+    def ullage_temperature(self, m_v, m_g, u_j, rho_v):
+        xp, fl = self.b.xp, self.fl
+        f = fl.f
+        t_r = 0.5 * (f["t_min_k"] + f["t_max_k"])
+        u_r, cv_r = fl.vapor_ideal(t_r + 0.0 * m_v)
+        cv_g = m_g * self.he["cv_j_per_kg_k"]
+        t = (u_j - m_v * (self.off + u_r - cv_r * t_r)) / (m_v * cv_r + cv_g)
+
+        def body(c):
+            t, done = c
+            v = fl.vapor_state(t, rho_v)
+            u0, cv0 = fl.vapor_ideal(t)
+            r = m_v * (u0 + self.off + v["u_res"]) + cv_g * t - u_j
+            step = r / (m_v * (cv0 + v["du_res_dt"]) + cv_g)
+            t = xp.where(done, t, t - step)
+            done = done | (xp.abs(step) <= xp.abs(t) * ULLAGE_NEWTON_TOL) | xp.isnan(step)
+            return t, done
+
+        t, _ = self.b.loop(ULLAGE_NEWTON_MAX, body, (t, xp.zeros_like(t, dtype=bool)), lambda c: c[1])
+        return t, fl.vapor_state(t, rho_v)
+
+    # --- thermal closures (src/model/thermal.rs) -----------------------------------------
+
+    def rayleigh(self, pr, accel, dt_k, length):
+        xp = self.b.xp
+        nu = pr["mu"] / pr["rho"]
+        alpha = pr["k"] / (pr["rho"] * pr["cp"])
+        l3 = length * length * length
+        ra = xp.maximum(accel, 0.0) * xp.abs(pr["beta"]) * xp.abs(dt_k) * l3 / (nu * alpha)
+        return ra, nu / alpha
+
+    def h_vertical_wall(self, pr, accel, dt_k, length_m):
+        xp = self.b.xp
+        length = xp.maximum(length_m, 1.0e-3)
+        ra, prn = self.rayleigh(pr, accel, dt_k, length)
+        f = (xp.power(0.492 / prn, 9.0 / 16.0) + 1.0) ** (8.0 / 27.0)
+        with with_errstate(xp):
+            nu = xp.exp(xp.log(ra) * (1.0 / 6.0)) * 0.387 / f + 0.825
+        return nu * nu * pr["k"] / length
+
+    def h_stable_interface(self, pr, accel, dt_k, length_m):
+        xp = self.b.xp
+        length = xp.maximum(length_m, 1.0e-3)
+        ra, _ = self.rayleigh(pr, accel, dt_k, length)
+        return (xp.sqrt(xp.sqrt(ra)) * 0.27 + 1.0) * pr["k"] / length
+
+    def h_unstable_interface(self, pr, accel, dt_unstable, length_m):
+        xp = self.b.xp
+        length = xp.maximum(length_m, 1.0e-3)
+        ra, _ = self.rayleigh(pr, accel, xp.maximum(dt_unstable, 0.0), length)
+        with with_errstate(xp):
+            out = xp.exp(xp.log(ra) * (1.0 / 3.0)) * 0.15 * pr["k"] / length
+        return out
+
+    def stiff_blend(self, z):
+        xp = self.b.xp
+        big = z > 1.0
+        with with_errstate(xp):
+            v = xp.where(big, 1.0 / z, z)
+        s_lo = 1.0 + 0.0 * z
+        v_lo = 1.0 + 0.0 * z
+        for _ in range(1, self.k["stiff_blend_order"]):
+            s_lo = s_lo * v + 1.0
+            v_lo = v_lo * v
+        s_hi = s_lo + v_lo * v
+        a = s_lo / s_hi * xp.where(big, v, 1.0)
+        w = xp.where(big, v, v_lo) / s_hi
+        return a, w
+
+    def wall_exchange(self, ua, dt, c_wall, c_fluid, dtemp, forcing):
+        z = dt * ua * (1.0 / c_wall + 1.0 / c_fluid)
+        a, w = self.stiff_blend(z)
+        return ua * (a * dtemp + w * dt * forcing)
+
+    def orifice_flow(self, area, p_up, p_down, t_k, r, gamma):
+        xp = self.b.xp
+        g = gamma
+        pr_crit = xp.power(2.0 / (g + 1.0), g / (g - 1.0))
+        prr = xp.maximum(p_down / p_up, pr_crit)
+        flux = xp.sqrt(
+            xp.maximum(
+                g * 2.0 / ((g - 1.0) * r * t_k) * (xp.power(prr, 2.0 / g) - xp.power(prr, (g + 1.0) / g)),
+                0.0,
+            )
+        )
+        closed = (p_up <= p_down) | (p_up <= 0.0)
+        return xp.where(closed, 0.0, area * p_up * flux)
+
+    # --- nodes::rhs (src/model/nodes.rs, boundary.rs) ------------------------------------
+
+    def rhs(self, p, d, dt, s):
+        """`_rhs` with numpy's warnings off: like the Rust lanes, the port evaluates branches it
+        then selects away (asinh(x)/x at x = 0 in a sphere's zone area, log 0 in a zero
+        Rayleigh number)."""
+        with with_errstate(self.b.xp):
+            return self._rhs(p, d, dt, s)
+
+    def _rhs(self, p, d, dt, s):
+        """Rates (a list of NS arrays) at states `s` (list of NS arrays) under drives `d` and
+        parameters `p` (dicts of arrays, the Parquet columns without their prefix)."""
+        xp, fl, k, st = self.b.xp, self.fl, self.k, self.st
+        self.tank = Tank(self.b, st["shape"], p["tank_radius_m"], p["tank_length_m"], p["tank_dome_ratio"])
+        tank = self.tank
+        x = self.derive(p, s, d)
+        zero = 0.0 * s[M_V]
+        ds = [zero] * NS
+        off = self.off
+        t_u, t_s, t_b = x["t_ullage"], x["t_layer"], x["t_bulk"]
+        rho_v = s[M_V] / x["v_ullage"]
+        vapor = fl.vapor_state(t_u, rho_v)
+        rv = fl.rs
+        u0, cv0 = fl.vapor_ideal(t_u)
+        u_vap = u0 + off + vapor["u_res"]
+        cv_g = self.he["cv_j_per_kg_k"]
+        cp_he = self.he["cp_j_per_kg_k"]
+        heat_cap = s[M_V] * (vapor["du_res_dt"] + cv0) + s[M_G] * cv_g
+        a_i = x["interface_area"]
+        r_surf = xp.maximum(tank.surface_radius(x["level"]), 1.0e-3)
+        a_tot = tank.wall_area
+        dry_share = 1.0 - x["wetted_share"]
+        a_wet, a_dry = a_tot * x["wetted_share"], a_tot * dry_share
+        speed = xp.abs(s[Q1D])
+        enhancement = p["h_enhancement"]
+
+        def fits(t, rho):
+            return dict(t=t, rho=rho, cp=fl.cp_l(t), dh_dt=fl.dh_l_dt(t), drho_dt=fl.drho_l_dt(t), h=fl.h_l(t))
+
+        def convection(n):
+            return dict(k=fl.k_l(n["t"]), mu=fl.mu_l(n["t"]), rho=n["rho"], cp=n["cp"], beta=-n["drho_dt"] / n["rho"])
+
+        bulk, layer = fits(t_b, x["rho_bulk"]), fits(t_s, x["rho_layer"])
+        liq = convection(bulk)
+        # gas_props
+        m = x["m_vapor"] + s[M_G]
+        y = xp.where(m > 0.0, x["m_vapor"] / m, 1.0)
+        k_v, mu_v = fl.vapor_transport(t_u)
+        k_g, mu_g = self.he_transport(t_u)
+        he = 1.0 - y
+        gas = dict(
+            k=y * k_v + he * k_g,
+            mu=y * mu_v + he * mu_g,
+            rho=m / x["v_ullage"],
+            cp=y * (cv0 + rv) + he * cp_he,
+            beta=1.0 / t_u,
+        )
+        h_wl = self.closure(
+            p, "h_wall_liquid", lambda: self.h_vertical_wall(liq, x["a_ax"], x["t_wall_wet"] - t_b, x["level"])
+        )
+        h_wu = self.closure(
+            p,
+            "h_wall_ullage",
+            lambda: self.h_vertical_wall(gas, x["a_ax"], x["t_wall_dry"] - t_u, tank.height - x["level"]),
+        )
+        c_wall = p["wall_areal_mass_kg_per_m2"] * tank.wall_area * p["wall_cp_j_per_kg_k"]
+        bulk_gone = s[M_B] <= 0.0
+        c_bulk = xp.maximum(xp.where(bulk_gone, s[M_S], s[M_B]), 1.0e-9) * liq["cp"]
+        # insulation::wall_heat without [insulation]
+        q_env = p["heat_leak_w"]
+        warming = q_env / c_wall
+        env = dict(
+            dry_w=q_env * dry_share,
+            wet_w=q_env * x["wetted_share"],
+            total_w=q_env + zero,
+            warming_dry=warming,
+            warming_wet=warming,
+        )
+        q_wl = self.wall_exchange(
+            h_wl * a_wet, dt, c_wall * x["wetted_share"], c_bulk, x["t_wall_wet"] - t_b, env["warming_wet"]
+        )
+        depth = x["v_layer"] / a_i
+        a_below = tank.wetted_area(x["level"] - depth)
+        a_ws = xp.minimum(xp.maximum(a_wet - a_below, 0.0), a_wet)
+        contact = a_ws / xp.maximum(a_wet, 1.0e-12)
+        lift = p["wall_heat_to_layer"]
+        to_layer = xp.where(bulk_gone, 1.0, contact + lift * (1.0 - contact))
+        q_ws, q_wb = to_layer * q_wl, (1.0 - to_layer) * q_wl
+        q_wu = self.wall_exchange(
+            h_wu * a_dry, dt, c_wall * dry_share, heat_cap, x["t_wall_dry"] - t_u, env["warming_dry"]
+        )
+        h_us = (
+            self.closure(p, "h_us", lambda: self.h_stable_interface(gas, x["a_ax"], t_u - t_s, r_surf * 0.5))
+            + enhancement * speed
+        )
+        q_us = h_us * a_i * (t_u - t_s)
+        h_sb = (
+            self.closure(p, "h_sb", lambda: zero)
+            + self.h_unstable_interface(liq, x["a_ax"], t_b - t_s, r_surf * 0.5)
+            + enhancement * speed
+        )
+        q_sb = h_sb * a_i * (t_s - t_b)
+        alpha = p["diffusivity_factor"] * fl.k_l(t_s) / (x["rho_layer"] * layer["cp"])
+        delta = xp.maximum(s[M_S] / (x["rho_layer"] * a_i), 1.0e-6)
+        bulk_left = xp.clip(s[M_B] / ((s[M_B] + s[M_S]) * k["bulk_merge_fraction"] + 1.0e-9), 0.0, 1.0)
+        m_strat = x["rho_layer"] * a_i * PI * alpha / (delta * 8.0) * bulk_left
+        m_mix = p["mixing"] * s[M_S] * speed * bulk_left
+
+        b = self.boundary_flows(p, s, d, x)
+        h_mass = h_us / (gas["rho"] * gas["cp"])
+        h_fg = fl.h_fg(t_s)
+        k_evap, dp = self.evaporation_driving(p, s, x, h_mass)
+        out_b, out_s = b["out"] * bulk_left, b["out"] * (1.0 - bulk_left)
+        h_ls, h_lb = layer["h"], bulk["h"]
+        h_vap_gas = u_vap + vapor["z"] * rv * t_u
+        y = b["y_vapor"]
+        h_u = y * h_vap_gas + (1.0 - y) * cp_he * t_u
+        h_press = self.pressurant_inlet_enthalpy(p, x["p_ullage"])
+        share = p["pressurant_vapor_share"] if st["has_pressurization"] else zero
+        press_v = b["press"] * share
+        pu = x["p_ullage"]
+
+        ds[M_G] = b["press"] - press_v - b["vent"] * (1.0 - y)
+        ds[M_B] = -m_strat - out_b
+        mix_w = m_mix * (h_ls - h_lb)
+        f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb
+        dh_b, dv_b = liquid_node_rates(pu, f_b, ds[M_B], bulk)
+        ds[H_B] = dh_b
+        self.motion_rates(p, s, d, x, ds)
+        c_v = p["coupling_volume_m3"]
+        dv_slosh = c_v * xp.cos(s[Q1]) * s[Q1D]
+
+        def tail(mm):
+            e_evap = xp.maximum(mm, 0.0) * (h_ls + h_fg) + xp.minimum(mm, 0.0) * h_vap_gas
+            dm_v = mm + press_v - b["vent"] * y
+            dm_s = -mm + m_strat - out_s
+            f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls
+            dh_s, dv_s = liquid_node_rates(pu, f_s, dm_s, layer)
+            du_u = (
+                q_wu - q_us + e_evap + b["press"] * h_press - b["vent"] * h_u + pu * (dv_s + dv_b) - pu * dv_slosh
+            )
+            return [dm_v, dm_s, dh_s, du_u, dv_s]
+
+        dpsat_dt = fl.psat_and_slope(t_s)[1]
+        dm_g = ds[M_G]
+
+        def dp_rate(r):
+            dt_s = (r[2] - h_ls * r[1]) / (xp.maximum(s[M_S], 1.0e-9) * layer["dh_dt"])
+            dv_u = dv_slosh - r[4] - dv_b
+            drho = (r[0] - rho_v * dv_u) / x["v_ullage"]
+            dt_u = (r[3] - r[0] * u_vap - s[M_V] * vapor["du_res_drho"] * drho - dm_g * cv_g * t_u) / heat_cap
+            dp_v = vapor["dp_dt"] * dt_u + vapor["dp_drho"] * drho
+            return dpsat_dt * dt_s - dp_v
+
+        forcing = dp_rate(tail(zero))
+        j_evap = xp.maximum(forcing - dp_rate(tail(zero + 1.0)), 0.0)
+        j_cond = xp.maximum(dp_rate(tail(zero - 1.0)) - forcing, 0.0)
+
+        def rate(j):
+            a, w = self.stiff_blend(dt * k_evap * j)
+            return k_evap * (a * dp + w * dt * forcing)
+
+        m_evap = xp.maximum(rate(j_evap), 0.0) + xp.minimum(rate(j_cond), 0.0)
+        dm_v, dm_s, dh_s, du_u, dv_s = tail(m_evap)
+        ds[M_V], ds[M_S], ds[H_S], ds[U_U] = dm_v, dm_s, dh_s, du_u
+        # wall_rates
+        section = tank.interface_area(x["level"])
+        dz = (dv_s + dv_b) / xp.maximum(section, 1.0e-9)
+        m_wall = p["wall_areal_mass_kg_per_m2"] * tank.wall_area
+        dshare = x["wetted_share_slope"] * dz
+        t_moving = xp.where(dshare < 0.0, x["t_wall_wet"], x["t_wall_dry"])
+        handover = m_wall * dshare * p["wall_cp_j_per_kg_k"] * t_moving
+        ds[E_WD] = env["dry_w"] - q_wu - handover
+        ds[E_WW] = env["wet_w"] - q_wl + handover
+        ds[E_ENV] = env["total_w"]
+        # boundary_ledger
+        ds[VENT_V] = b["vent"] * b["y_vapor"]
+        ds[VENT_G] = b["vent"] * (1.0 - b["y_vapor"])
+        ds[OUT] = b["out"]
+        ds[PRESS_IN] = b["press"]
+        ds[E_PRESS] = b["press"] * h_press
+        ds[E_VENT] = b["vent"] * h_u
+        ds[E_OUT] = out_s * h_ls + out_b * h_lb
+        ds[E_WORK] = -pu * dv_slosh
+        return ds
+
+    def evaporation_driving(self, p, s, x, h_mass):
+        xp, fl = self.b.xp, self.fl
+        t_s = x["t_layer"]
+        rv = fl.rs
+        mol_v = fl.f["molar_mass_kg_per_mol"]
+
+        def schrage():
+            sig = p["accommodation"]
+            return (
+                x["interface_area"]
+                * 2.0
+                * sig
+                / (2.0 - sig)
+                * xp.sqrt(mol_v / (t_s * (2.0 * PI * self.k["r_universal"])))
+            )
+
+        k_kin = self.closure(p, "evaporation_coefficient", schrage)
+        moles_v = s[M_V] / mol_v
+        moles_g = s[M_G] / self.he["molar_mass_kg_per_mol"]
+        x_he = moles_g / xp.maximum(moles_v + moles_g, 1.0e-300)
+        diffusion = x_he * rv * x["t_ullage"] / xp.maximum(h_mass * x["interface_area"], 1.0e-300)
+        kk = 1.0 / (1.0 / k_kin + diffusion)
+        return kk, fl.psat_and_slope(t_s)[0] - x["p_vapor"]
+
+    def boundary_flows(self, p, s, d, x):
+        xp, fl, k, st = self.b.xp, self.fl, self.k, self.st
+        zero = 0.0 * s[M_V]
+        m_u = s[M_V] + s[M_G]
+        y_v = xp.where(m_u > 0.0, s[M_V] / m_u, 1.0)
+        out = dict(y_vapor=y_v, press=zero, vent=zero, out=zero)
+        if st["has_pressurization"]:
+            e = p["press_setpoint_pa"] - x["p_ullage"]
+            e_dot = -(x["p_ullage"] - s[P_FILT]) / p["press_filter_s"]
+            demand = xp.minimum(xp.maximum(p["press_kp"] * e + p["press_kd"] * e_dot, 0.0), p["press_max_flow"])
+            bottle = p["press_bottle_kg"]
+            left = bottle - s[PRESS_IN]
+            fade = xp.clip(left / (bottle * 1.0e-3 + 1.0e-9), 0.0, 1.0)
+            out["press"] = xp.where(d["d_pressurize"], demand * fade, 0.0)
+        if st["has_relief"]:
+            rv = fl.rs
+            rg = self.he_r
+            vap = 1.0 - y_v
+            r_mix = y_v * rv + vap * rg
+            cv_v = fl.vapor_ideal(x["t_ullage"])[1]
+            cp = y_v * (cv_v + rv) + vap * self.he["cp_j_per_kg_k"]
+            cv = y_v * cv_v + vap * self.he["cv_j_per_kg_k"]
+            back = xp.exp(-xp.maximum(s[ALT], 0.0) / k["scale_height_m"]) * k["p_sea_level_pa"]
+            with with_errstate(xp):
+                vent = self.orifice_flow(p["relief_flow_area_m2"], x["p_ullage"], back, x["t_ullage"], r_mix, cp / cv)
+            out["vent"] = xp.where(d["d_valve_open"], vent, 0.0)
+        engine = d["d_thrust_n"] / (p["feed_isp_s"] * k["g0"])
+        m_l = x["m_liquid"]
+        avail = xp.clip(m_l / (xp.maximum(m_l, 1.0) * 1.0e-6 + 1.0e-3), 0.0, 1.0)
+        out["out"] = xp.where(d["d_burning"], engine * p["feed_propellant_fraction"] * avail, 0.0)
+        return out
+
+    def motion_rates(self, p, s, d, x, ds):
+        xp, k = self.b.xp, self.k
+        th, w = s[Q1], s[Q1D]
+        l, om, ze = x["slosh_length"][0], x["slosh_omega"][0], x["slosh_zeta"][0]
+        sin, cos = xp.sin(th), xp.cos(th)
+        acc = -(x["a_ax"] / l) * sin - ze * 2.0 * om * w - (d["d_a_lat"] / l) * cos
+        ds[Q1] = w
+        ds[Q1D] = acc
+        r = (xp.maximum(s[ALT], 0.0) + k["earth_radius_m"]) / k["earth_radius_m"]
+        r = 1.0 / r
+        gravity = r * r * k["g0"]
+        sin_gamma = xp.sin(d["d_gamma_rad"])
+        dv = (d["d_thrust_n"] - x["drag"]) / x["vehicle_mass"] - gravity * sin_gamma
+        ds[VEL] = xp.where(d["d_flying"], dv, ds[VEL])
+        ds[ALT] = xp.where(d["d_flying"], s[VEL] * sin_gamma, ds[ALT])
+        if self.st["has_pressurization"]:
+            ds[P_FILT] = (x["p_ullage"] - s[P_FILT]) / p["press_filter_s"]
+
+    def pressurant_inlet_enthalpy(self, p, p_ullage):
+        xp, fl = self.b.xp, self.fl
+        if not self.st["has_pressurization"]:
+            return 0.0 * p_ullage
+        t_in = p["press_gas_temperature_k"]
+        helium = t_in * self.he["cp_j_per_kg_k"]
+        if not self.st["autogenous"]:
+            return helium + 0.0 * p_ullage
+        u0, _ = fl.vapor_ideal(t_in)
+        h_res = fl.vapor_h_res_at_tp(t_in, p_ullage)
+        vapour = u0 + t_in * fl.rs + self.off + h_res
+        return xp.where(p["pressurant_vapor_share"] > 0.0, vapour, helium)
+
+
+def liquid_node_rates(p_pa, flux_w, dm, n):
+    rho, h = n["rho"], n["h"]
+    beta = -n["drho_dt"] / (rho * rho * n["dh_dt"])
+    dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (p_pa * beta + 1.0)
+    return dh, dm / rho + beta * (dh - h * dm)
+
+
+class with_errstate:
+    """numpy: silence the warnings of log(0) and 1/0 that the Rust code also evaluates (and
+    then selects away); a no-op for JAX."""
+
+    def __init__(self, xp):
+        self.ctx = xp.errstate(all="ignore") if hasattr(xp, "errstate") else None
+
+    def __enter__(self):
+        if self.ctx is not None:
+            self.ctx.__enter__()
+
+    def __exit__(self, *a):
+        if self.ctx is not None:
+            self.ctx.__exit__(*a)
+
+
+# --- reading the rows --------------------------------------------------------------------
+
+
+def load(path):
+    """The rows and constants of a file from `examples/rhs_states.rs`: (constants, structure,
+    columns as numpy arrays)."""
+    import json
+
+    import numpy as np
+    import pyarrow.parquet as pq
+
+    f = pq.ParquetFile(path)
+    meta = f.metadata.metadata or {}
+    constants = json.loads(meta[b"cryoslosh_constants"])
+    t = f.read()
+    cols = {n: np.asarray(t.column(n).to_numpy(), dtype=np.float64) for n in t.column_names}
+    first = {n: v[0] for n, v in cols.items()}
+    structure = dict(
+        shape=int(first["p_tank_shape"]),
+        has_pressurization=bool(first["p_has_pressurization"]),
+        autogenous=bool(first["p_pressurant_vapor_share"] > 0.0),
+        has_relief=bool(first["p_has_relief"]),
+        has_insulation=bool(first["p_has_insulation"]),
+        max_baffle_count=int(cols["p_baffle_count"].max()),
+        evaporation_coefficient=not np.isnan(first["p_evaporation_coefficient"]),
+        h_us=not np.isnan(first["p_h_us"]),
+        h_sb=not np.isnan(first["p_h_sb"]),
+        h_wall_ullage=not np.isnan(first["p_h_wall_ullage"]),
+        h_wall_liquid=not np.isnan(first["p_h_wall_liquid"]),
+    )
+    return constants, structure, cols
+
+
+def split(cols, xp=None, dtype=None):
+    """(p, d, dt, s, rates) from the columns: `p` without its `p_` prefix, drive flags as
+    booleans."""
+    import numpy as np
+
+    conv = (lambda a: a) if xp is None else xp.asarray
+    p = {n[2:]: conv(v) for n, v in cols.items() if n.startswith("p_")}
+    d = {}
+    for n, v in cols.items():
+        if n.startswith("d_"):
+            flag = n in ("d_burning", "d_flying", "d_pressurize", "d_valve_open", "d_space")
+            d[n] = conv(v != 0.0) if flag else conv(v)
+    s = [conv(cols[f"s_{k}"]) for k in range(NS)]
+    r = np.stack([cols[f"r_{k}"] for k in range(NS)], axis=1)
+    return p, d, conv(cols["dt"]), s, r
