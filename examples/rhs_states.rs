@@ -16,8 +16,8 @@
 //! vapour-energy offset, the slosh tables, model floors) go into the file's key-value metadata
 //! `cryoslosh_constants` as JSON, so the Python ports read the engine's own numbers.
 //!
-//! `--time` evaluates the same rows as 4-lane `Lanes` groups on 1 and 2 rayon threads and
-//! prints right-hand-side evaluations per second.
+//! `--time` evaluates the same rows as `Lanes` groups (`lanes::WIDTH` instances) on 1 and 2
+//! rayon threads and prints right-hand-side evaluations per second.
 
 use arrow_array::{ArrayRef, Float64Array, RecordBatch};
 use arrow_schema::{DataType, Field, Schema};
@@ -355,7 +355,7 @@ fn write(path: &str, c: &Campaign, rows: &[Row]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The rows as 4-lane groups (the last one padded with its first row).
+/// The rows as `WIDTH`-lane groups (the last one padded with its first row).
 struct LaneGroup {
     params: Vec<Params>,
     state: State<Lanes>,

@@ -63,13 +63,14 @@ fn lane_groups_equal_one_at_a_time_on_every_campaign_and_level() {
                     "phases.0.duration_s=120",
                 ],
             );
+            // One full group and one with an empty lane.
+            let n = 2 * WIDTH as u64 - 1;
             let plan = Plan {
                 campaign: &c,
                 seed: 5,
-                total: 7,
+                total: n,
             };
-            // 7 instances: one full group and one with an empty lane.
-            let records = assert_lanes_match(&format!("{name}/{level}"), &plan, 7);
+            let records = assert_lanes_match(&format!("{name}/{level}"), &plan, n);
             assert!(records.iter().all(|r| r.summary.steps > 0));
         }
     }
@@ -141,12 +142,14 @@ fn adaptive_lane_groups_equal_one_at_a_time() {
                 "campaign.integrator=dopri5",
             ],
         );
+        // A full group (the direct `simulate_lanes` check needs one) and a partial one.
+        let n = WIDTH as u64 + 2;
         let plan = Plan {
             campaign: &c,
             seed: 3,
-            total: 6,
+            total: n,
         };
-        let records = assert_lanes_match(&format!("{name}/{level} dopri5"), &plan, 6);
+        let records = assert_lanes_match(&format!("{name}/{level} dopri5"), &plan, n);
         let mut steps: Vec<u64> = records.iter().map(|r| r.summary.steps).collect();
         steps.dedup();
         assert!(
