@@ -2,7 +2,7 @@
 //! right-hand side at states taken along real trajectories of a shipped campaign.
 //!
 //! ```text
-//! cargo run --release --example rhs_states -- CAMPAIGN --out states.parquet [--rows 1000]
+//! cargo run --release --example rhs_states -- CAMPAIGN --out states.parquet [--rows 1000] [--set K=V]
 //! cargo run --release --example rhs_states -- CAMPAIGN --time [--rows 1000] [--seconds 2]
 //! ```
 //!
@@ -405,22 +405,63 @@ fn time(groups: &[LaneGroup], threads: usize, seconds: f64) -> f64 {
     })
 }
 
+const USAGE: &str = "usage: rhs_states CAMPAIGN (--out FILE | --time) [--rows N] [--instances N] \
+                     [--seed N] [--seconds S] [--set KEY=VALUE]...";
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    // Every flag known and every value present: an unknown flag (a `--set` this example did not
+    // take) used to be ignored and the file written for the campaign as it stands.
+    let mut i = 1;
+    let (mut values, mut sets) = (Vec::new(), Vec::new());
+    while i < args.len() {
+        match args[i].as_str() {
+            "--time" => i += 1,
+            "--out" | "--rows" | "--instances" | "--seed" | "--seconds" | "--set" => {
+                let v = args
+                    .get(i + 1)
+                    .ok_or_else(|| anyhow::anyhow!("{} needs a value; {USAGE}", args[i]))?;
+                if args[i] == "--set" {
+                    sets.push(v.clone());
+                } else {
+                    values.push((args[i].clone(), v.clone()));
+                }
+                i += 2;
+            }
+            other => anyhow::bail!("unknown argument {other:?}; {USAGE}"),
+        }
+    }
     let flag = |name: &str| {
-        args.iter()
-            .position(|a| a == name)
-            .map(|i| args[i + 1].clone())
+        values
+            .iter()
+            .rev()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.clone())
+    };
+    let number = |name: &str, default: f64, lo: f64| -> anyhow::Result<f64> {
+        let v = flag(name).map_or(Ok(default), |v| {
+            v.parse::<f64>()
+                .map_err(|e| anyhow::anyhow!("{name} {v:?}: {e}"))
+        })?;
+        anyhow::ensure!(
+            v.is_finite() && v >= lo,
+            "{name} {v}: expected at least {lo}"
+        );
+        Ok(v)
     };
     let campaign = args
         .first()
         .filter(|a| !a.starts_with("--"))
-        .ok_or_else(|| anyhow::anyhow!("usage: rhs_states CAMPAIGN (--out FILE | --time)"))?;
-    let rows: usize = flag("--rows").map_or(Ok(1000), |v| v.parse())?;
-    let instances: u64 = flag("--instances").map_or(Ok(32), |v| v.parse())?;
-    let seed: u64 = flag("--seed").map_or(Ok(18), |v| v.parse())?;
-    let seconds: f64 = flag("--seconds").map_or(Ok(2.0), |v| v.parse())?;
-    let c = Campaign::load(std::path::Path::new(campaign), &[])?;
+        .ok_or_else(|| anyhow::anyhow!("{USAGE}"))?;
+    anyhow::ensure!(
+        flag("--out").is_some() || args.iter().any(|a| a == "--time"),
+        "nothing to do; {USAGE}"
+    );
+    let rows = number("--rows", 1000.0, 1.0)? as usize;
+    let instances = number("--instances", 32.0, 1.0)? as u64;
+    let seed = number("--seed", 18.0, 0.0)? as u64;
+    let seconds = number("--seconds", 2.0, 0.01)?;
+    let c = Campaign::load(std::path::Path::new(campaign), &sets)?;
     anyhow::ensure!(
         c.params.fidelity == Fidelity::Lumped,
         "the peers port the lumped level; {} is {}",

@@ -517,3 +517,32 @@ fn the_share_of_instances_outside_the_slosh_range_is_reported_per_variant() {
     assert!(line.contains(&format!("{b}")), "{line}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A variant could set one key twice (a quoted dotted key and a table; a phase by index and by
+/// name): `check` listed both, the run used one and dropped the other without a word. Setting a
+/// key twice is now refused naming both spellings.
+#[test]
+fn a_variant_setting_one_key_twice_is_refused() {
+    let path = campaign_path("lh2_insulated");
+    let text = std::fs::read_to_string(&path).unwrap();
+    for (twice, first) in [
+        (
+            "\"insulation.mli_layers\" = 45\ninsulation = { mli_layers = 10 }\n",
+            "insulation.mli_layers",
+        ),
+        (
+            "\"phases.2.environment\" = \"ground\"\n\"phases.coast.environment\" = \"space\"\n",
+            "phases.2.environment",
+        ),
+    ] {
+        let doc =
+            format!("{text}\n[[variants]]\nname = \"a\"\n\n[[variants]]\nname = \"b\"\n{twice}");
+        let e = Campaign::from_text(&path, &doc, &[]).unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            e.key().is_some_and(|k| k.starts_with("variants.b.")),
+            "{msg}"
+        );
+        assert!(msg.contains(&format!("also sets it as {first}")), "{msg}");
+    }
+}

@@ -32,7 +32,10 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 
 
 def example(args):
-    cmd = ["cargo", "run", "--quiet", "--release", "--example", "rhs_states", "--"] + args
+    # RHS_STATES_BIN: an rhs_states binary already built (else cargo builds and runs it).
+    built = os.environ.get("RHS_STATES_BIN")
+    cargo = ["cargo", "run", "--quiet", "--release", "--example", "rhs_states", "--"]
+    cmd = ([built] if built else cargo) + args
     return subprocess.run(cmd, cwd=ROOT, check=True, capture_output=True, text=True).stdout
 
 

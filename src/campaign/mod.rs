@@ -156,12 +156,13 @@ fn unused_with_insulation(
     let why = "not used with an [insulation] section (the heat leak comes from the stack and \
            each phase's environment): set or disperse insulation.* keys instead";
     for o in overrides {
-        let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k.trim());
+        let (key, value) = o.split_once('=').unwrap_or((o.as_str(), ""));
+        let key = key.trim();
         if canonical_key(doc, key) == INSULATION_REPLACES {
             return Err(CampaignError::Override {
                 file: c.path.clone(),
                 key: key.to_string(),
-                message: why.to_string(),
+                message: format!("{} is {why}", value.trim()),
             });
         }
     }

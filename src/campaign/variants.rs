@@ -150,7 +150,20 @@ pub(super) fn extract(
         rest.remove("name");
         let mut overrides = Vec::new();
         flatten("", &rest, &mut overrides);
-        for (key, v) in &overrides {
+        for (k, (key, v)) in overrides.iter().enumerate() {
+            // One key, however spelled (a quoted dotted key and a table; a phase by index and
+            // by name), is set once: both were accepted and one value silently dropped.
+            let at = canonical_key(doc, key);
+            if let Some((first, _)) = overrides[..k]
+                .iter()
+                .find(|(o, _)| canonical_key(doc, o) == at)
+            {
+                return Err(invalid(
+                    format!("variants.{name}.{key}"),
+                    v.to_string(),
+                    &format!("a key this variant sets once (it also sets it as {first})"),
+                ));
+            }
             if matches!(v, toml::Value::Array(_)) {
                 return Err(invalid(
                     format!("variants.{name}.{key}"),

@@ -6,7 +6,7 @@
 
 use super::data::{self, unit_of, StatRow};
 use super::html::{escape, num};
-use super::{fmt_p, report, ReportError, ReportOptions, ReportSummary};
+use super::{report, ReportError, ReportOptions, ReportSummary};
 use crate::campaign::Campaign;
 use crate::montecarlo::differences::{side_by_side_lines, DiffRow};
 use crate::montecarlo::table;
@@ -271,12 +271,9 @@ fn side_by_side(h: &mut String, columns: &[Column], rows: &[DiffRow]) {
         let _ = write!(h, "<tr>{label}");
         for col in columns {
             let v = value_of(&col.stats, q, stat, *threshold);
-            let shown = if threshold.is_finite() {
-                fmt_p(v)
-            } else {
-                num(v)
-            };
-            let _ = write!(h, "<td>{shown}</td>");
+            // As the run summary's table prints them (a 4-decimal probability showed a rare
+            // exceedance as 0.0000 here and as a number there).
+            let _ = write!(h, "<td>{}</td>", num(v));
         }
         h.push_str("</tr>\n");
     }
