@@ -394,9 +394,10 @@ fn bad_insulation_input_names_key_and_range() {
 }
 
 /// Keys an `[insulation]` section makes meaningless were accepted and ignored: a variant of
-/// the insulated stage setting `tank.heat_leak_w` gave a zero difference, a `--set` or a
-/// dispersion of it changed nothing, a phase `environment` without insulation did nothing, and a
-/// blanket without its layer density read "= NaN". Each is now refused naming the key.
+/// the insulated stage setting `tank.heat_leak_w` gave a zero difference, a `--set`, a
+/// dispersion or the file's own line of it changed nothing, a phase `environment` without
+/// insulation did nothing, and a blanket without its layer density read "= NaN". Each is now
+/// refused naming the key.
 #[test]
 fn keys_the_insulation_makes_unused_are_refused() {
     use cryoslosh::campaign::{Campaign, CampaignError};
@@ -435,6 +436,18 @@ fn keys_the_insulation_makes_unused_are_refused() {
     let (key, msg) = refused(&no_density, &[]);
     assert_eq!(key, "insulation.mli_layer_density_per_cm", "{msg}");
     assert!(msg.contains("(missing)") && !msg.contains("NaN"), "{msg}");
+
+    // Written in the file beside the stack, the fixed leak was ignored without a word.
+    let stale = text.replacen("[tank]\n", "[tank]\nheat_leak_w = 5000.0\n", 1);
+    let (key, msg) = refused(&stale, &[]);
+    assert_eq!(key, "tank.heat_leak_w", "{msg}");
+    // A variant that adds [insulation] to a campaign with a fixed leak replaces it.
+    let trade = campaign_path("tank_design_trade");
+    let with_mli = std::fs::read_to_string(&trade).unwrap()
+        + "\n[[variants]]\nname = \"mli\"\n\"insulation.mli_layers\" = 30\n\"insulation.mli_layer_density_per_cm\" = 15\n";
+    let c = Campaign::from_text(&trade, &with_mli, &[]).unwrap();
+    let mli = c.variant(c.variants.len() - 1).unwrap();
+    assert!(mli.params.insulation.is_some());
 
     let bare = campaign_path("lh2_upper_stage");
     let e = Campaign::load(&bare, &["phases.0.environment=space".to_string()]).unwrap_err();

@@ -161,10 +161,19 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
     };
     let tank = Tank::new(shape, radius, length, dome);
     let insulation = insulation::insulation(&c, raw.insulation.as_ref())?;
-    // With [insulation] the fixed leak is not used (a variant may add the section to a campaign
-    // that has one); without it the key is required.
+    // With [insulation] the stack computes the leak and a fixed one would be ignored without a
+    // word (a variant adding the section drops the campaign's key, `Campaign::variant`);
+    // without it the key is required.
     let heat_leak_w = match (t.heat_leak_w, &insulation) {
-        (Some(q), _) => c.range("tank.heat_leak_w", q, 0.0, 1.0e7)?,
+        (Some(q), Some(_)) => {
+            return Err(c.err(
+                "tank.heat_leak_w",
+                number(q),
+                "no fixed heat leak with an [insulation] section (the stack and each phase's \
+                 environment compute it; remove the key)",
+            ))
+        }
+        (Some(q), None) => c.range("tank.heat_leak_w", q, 0.0, 1.0e7)?,
         (None, Some(_)) => 0.0,
         (None, None) => {
             return Err(c.err(

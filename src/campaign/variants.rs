@@ -244,6 +244,13 @@ impl Campaign {
                 return Err(invalid(key, shown(value), schema_allowed(e.message())));
             }
         }
+        // A variant that adds [insulation] replaces the campaign's fixed heat leak (one it
+        // sets itself is refused below).
+        if doc.contains_key("insulation") && !self.document.contains_key("insulation") {
+            if let Some(toml::Value::Table(tank)) = doc.get_mut("tank") {
+                tank.remove("heat_leak_w");
+            }
+        }
         let text = toml::to_string(&doc).map_err(|e| CampaignError::Schema {
             file: self.path.clone(),
             message: format!("variant {}: {e}", v.name),
