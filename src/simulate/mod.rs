@@ -545,8 +545,8 @@ impl<'a> LaneRun<'a> {
     }
 
     /// Book-keeping after a step to state `merged_state` with evaluation `merged_ev` (a bulk about
-    /// to empty merges into them) under drive `d`: divergence,
-    /// extremes, valve, phase change, history. Returns false when the instance diverged.
+    /// to empty merges into them) under drive `d`: divergence, extremes, valve, phase change,
+    /// history. Returns false when the instance diverged.
     fn after_step(
         &mut self,
         mut merged_state: State,
