@@ -356,16 +356,16 @@ fn composition_keys_are_dispersible() {
 fn helium_and_autogenous_lanes_share_a_group_exactly() {
     // The pressurant gas is a per-lane share, not a group-wide switch: a lane group mixing
     // helium and autogenous members equals each run alone, bit for bit.
+    use cryoslosh::lanes::WIDTH;
     use cryoslosh::simulate::simulate_lanes;
-    let sets = [
-        "pressurization.gas=helium",
-        "pressurization.gas=autogenous",
-        "pressurization.gas=helium",
-        "pressurization.gas=autogenous",
-    ];
-    let cs: Vec<Campaign> = sets
-        .iter()
-        .map(|s| load("methalox_autogenous", &[s, "phases.burn.duration_s=60"]))
+    let gases = ["pressurization.gas=helium", "pressurization.gas=autogenous"];
+    let cs: Vec<Campaign> = (0..WIDTH)
+        .map(|i| {
+            load(
+                "methalox_autogenous",
+                &[gases[i % 2], "phases.burn.duration_s=60"],
+            )
+        })
         .collect();
     assert!(cs.iter().all(|c| cs[0].params.lane_compatible(&c.params)));
     let members: Vec<_> = cs.iter().map(|c| (c, &c.params)).collect();
