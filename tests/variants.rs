@@ -546,3 +546,44 @@ fn a_variant_setting_one_key_twice_is_refused() {
         assert!(msg.contains(&format!("also sets it as {first}")), "{msg}");
     }
 }
+
+/// `simulate --run DIR` on the results of a run with variants said "not a results directory":
+/// each variant's run is replayable in `DIR/variants/<name>/`, and the message now says so.
+#[test]
+fn replaying_a_variants_run_points_to_its_variants() {
+    let c = short_trade("");
+    let dir = scratch("replay-variants");
+    run(&c, &dir, 2, 1);
+    // Outside the results directory (a history is never written into one).
+    let out = scratch("replay.parquet");
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args([
+            "simulate",
+            "--run",
+            dir.to_str().unwrap(),
+            "--instance",
+            "0",
+        ])
+        .args(["--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("variants/<name>"), "{err}");
+    assert!(err.contains("baffles_insulation, baseline"), "{err}");
+    let base = variant_dir(&dir, "baseline");
+    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args([
+            "simulate",
+            "--run",
+            base.to_str().unwrap(),
+            "--instance",
+            "1",
+        ])
+        .args(["--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_file(&out);
+}

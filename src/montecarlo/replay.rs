@@ -24,6 +24,26 @@ pub struct RunCampaign {
 pub fn run_campaign(dir: &Path) -> Result<RunCampaign, RunError> {
     let path = dir.join("instances.parquet");
     if !path.is_file() {
+        // A run with [[variants]] keeps each variant's run in its own directory: say which.
+        if super::variants::is_variants_dir(dir) {
+            let names: Vec<String> = std::fs::read_dir(dir.join("variants"))
+                .map(|entries| {
+                    let mut n: Vec<String> = entries
+                        .filter_map(Result::ok)
+                        .filter(|e| e.path().join("instances.parquet").is_file())
+                        .map(|e| e.file_name().to_string_lossy().into_owned())
+                        .collect();
+                    n.sort();
+                    n
+                })
+                .unwrap_or_default();
+            return Err(RunError::Input(format!(
+                "--run {}: a run with variants; replay one variant's run: --run {} (variants: {})",
+                dir.display(),
+                super::variants::variant_dir(dir, "<name>").display(),
+                names.join(", ")
+            )));
+        }
         return Err(RunError::Input(format!(
             "--run {}: not a results directory (no instances.parquet)",
             dir.display()
