@@ -556,33 +556,19 @@ fn replaying_a_variants_run_points_to_its_variants() {
     run(&c, &dir, 2, 1);
     // Outside the results directory (a history is never written into one).
     let out = scratch("replay.parquet");
-    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
-        .args([
-            "simulate",
-            "--run",
-            dir.to_str().unwrap(),
-            "--instance",
-            "0",
-        ])
-        .args(["--out", out.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let replay = |run_dir: &Path, instance: &str| {
+        Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+            .args(["simulate", "--run", run_dir.to_str().unwrap()])
+            .args(["--instance", instance, "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap()
+    };
+    let o = replay(&dir, "0");
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("variants/<name>"), "{err}");
     assert!(err.contains("baffles_insulation, baseline"), "{err}");
-    let base = variant_dir(&dir, "baseline");
-    let o = Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
-        .args([
-            "simulate",
-            "--run",
-            base.to_str().unwrap(),
-            "--instance",
-            "1",
-        ])
-        .args(["--out", out.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let o = replay(&variant_dir(&dir, "baseline"), "1");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_file(&out);

@@ -143,28 +143,11 @@ pub struct Campaign {
 }
 
 /// With `[insulation]` the heat leak comes from the stack and the environment of each phase:
-/// [`INSULATION_REPLACES`] is not used, so a `--set` or a dispersion of it would change nothing
-/// (a variant setting it in an insulated campaign gave a zero difference and said nothing).
-fn unused_with_insulation(
-    c: &Campaign,
-    doc: &toml::Table,
-    overrides: &[String],
-) -> Result<(), CampaignError> {
+/// a dispersion of [`INSULATION_REPLACES`] would change nothing (a `--set` or a line of it is
+/// refused by validation, which sees the key in the document; a dispersion is not there).
+fn unused_with_insulation(c: &Campaign, doc: &toml::Table) -> Result<(), CampaignError> {
     if c.params.insulation.is_none() {
         return Ok(());
-    }
-    let why = "not used with an [insulation] section (the heat leak comes from the stack and \
-           each phase's environment): set or disperse insulation.* keys instead";
-    for o in overrides {
-        let (key, value) = o.split_once('=').unwrap_or((o.as_str(), ""));
-        let key = key.trim();
-        if canonical_key(doc, key) == INSULATION_REPLACES {
-            return Err(CampaignError::Override {
-                file: c.path.clone(),
-                key: key.to_string(),
-                message: format!("{} is {why}", value.trim()),
-            });
-        }
     }
     for (i, input) in c.dispersions.inputs.iter().enumerate() {
         if canonical_key(doc, &input.key) == INSULATION_REPLACES {
@@ -172,7 +155,11 @@ fn unused_with_insulation(
                 file: c.path.clone(),
                 key: format!("dispersions.inputs.{i}.key"),
                 value: input.key.clone(),
-                allowed: format!("a key the model uses: {INSULATION_REPLACES} is {why}"),
+                allowed: format!(
+                    "a key the model uses: {INSULATION_REPLACES} is not used with an \
+                     [insulation] section (the heat leak comes from the stack and each \
+                     phase's environment): disperse insulation.* keys instead"
+                ),
             });
         }
     }
@@ -234,7 +221,7 @@ impl Campaign {
                 |key| canonical_key(&doc, key),
             )?;
         }
-        unused_with_insulation(&c, &doc, overrides)?;
+        unused_with_insulation(&c, &doc)?;
         c.statistics = statistics::validate(
             &checker,
             &raw.statistics.clone().unwrap_or_default(),
