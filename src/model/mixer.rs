@@ -2,12 +2,13 @@
 //! stratification; docs/PHYSICS.md 2.6): a pump that draws liquid and returns it through a
 //! nozzle as a turbulent jet across the tank.
 //!
-//! **Correlation.** Fossett & Prosser, "The application of free jets to the mixing of fluids in
-//! bulk", Proc. Instn Mech. Engrs 160 (1949) 224–232: a free jet directed across a circular
+//! **Correlation.** Fossett & Prosser, Proc. Instn Mech. Engrs 160 (1949),
+//! doi:10.1243/PIME_PROC_1949_160_024_02 (its abstract): a free jet directed across a circular
 //! tank mixes it completely in t_mix ≈ 8 D² / √(Q u_j) (D the tank diameter, m; Q the nozzle
 //! flow, m³/s; u_j = 4 Q / (π d_j²) the nozzle velocity, m/s), i.e. 9.0 D² / (u_j d_j). The
 //! correlation is for a turbulent jet: the jet Reynolds number Re_j = ρ_l u_j d_j / μ_l must be
-//! at least [`MIN_JET_REYNOLDS`] (submerged jets in cylindrical vessels are fully turbulent
+//! at least [`MIN_JET_REYNOLDS`] (submerged jets in cylindrical vessels, "Submerged jets in
+//! short cylindrical flow vessels", inlet Reynolds numbers 100–28 000, are fully turbulent
 //! above Re ≈ 3000; below it the jet stays laminar over a length that grows as Re falls and
 //! the constant no longer holds). `campaign::validate` refuses a nominal campaign outside that
 //! range (exit 2) and rejects a dispersed instance that leaves it (`rejected_by`).
