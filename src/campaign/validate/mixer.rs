@@ -51,7 +51,7 @@ pub(super) fn mixer(
                 "0, or a turbulent jet: the jet Reynolds number ρ u_j d_j / μ = {} at the \
                  initial liquid temperature with mixer.nozzle_diameter_m = {} is below {} \
                  (the range of Fossett & Prosser's mixing-time correlation)",
-                number(re),
+                number((re * 10.0).round() / 10.0),
                 number(nozzle),
                 number(MIN_JET_REYNOLDS)
             ),
