@@ -327,3 +327,32 @@ fn dispersed_flow_below_the_turbulent_range_is_rejected() {
     values[j] = 1.0e-3;
     assert!(c2.instance(&values).is_ok());
 }
+
+/// A lane group of mixers with different flows, heats and leaks, the last lane's mixer switched
+/// off, integrates each lane to the same bits as that instance alone (`simulate_lanes`).
+#[test]
+fn mixer_lane_group_equals_one_instance_at_a_time() {
+    use cryoslosh::lanes::WIDTH;
+    use cryoslosh::simulate::simulate_lanes;
+    let campaigns: Vec<Campaign> = (0..WIDTH)
+        .map(|i| {
+            let sets = [
+                format!("mixer.pump_flow_m3_s={}", 0.002 * (i + 1) as f64),
+                "mixer.nozzle_diameter_m=0.1".into(),
+                format!("mixer.pump_heat_w={}", 5.0 + i as f64),
+                format!("tank.heat_leak_w={}", 50.0 + i as f64),
+                format!("phases.0.mixer={}", i + 1 < WIDTH),
+            ];
+            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+            load("mhtb_selfpress", &sets)
+        })
+        .collect();
+    let members: Vec<_> = campaigns.iter().map(|c| (c, &c.params)).collect();
+    let lanes = simulate_lanes(&members);
+    assert_eq!(lanes.len(), WIDTH);
+    for (i, (c, lane)) in campaigns.iter().zip(&lanes).enumerate() {
+        let one = simulate(c, &c.params, None);
+        assert_eq!(format!("{lane:?}"), format!("{one:?}"), "lane {i}");
+    }
+    assert!(lanes[0].final_stratification_k < lanes[WIDTH - 1].final_stratification_k);
+}
