@@ -40,6 +40,7 @@ struct Drive {
     pressurize: bool,
     valve_open: bool,
     space: bool,
+    mixing: bool,
 }
 
 fn table_interp(ph: GpuPhase, col: u32, t: f32) -> f32 {
@@ -128,6 +129,7 @@ fn phase_drive(ph: GpuPhase, t: f32, valve_open: bool) -> Drive {
     d.pressurize = ph.pressurize != 0u;
     d.valve_open = valve_open;
     d.space = ph.space != 0u;
+    d.mixing = ph.mixer != 0u;
     return d;
 }
 

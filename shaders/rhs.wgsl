@@ -49,6 +49,8 @@ struct EvapTail {
     m_strat: f32,
     out_s: f32,
     mix_w: f32,
+    /// The pump heat's layer share once the bulk has merged into it, W.
+    q_pump_s: f32,
     h_ls: f32,
     h_lb: f32,
     h_fg: f32,
@@ -83,7 +85,8 @@ fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
     let e_evap = max(m, 0.0) * (c.h_ls + c.h_fg) + min(m, 0.0) * c.h_vap_gas;
     let dm_v = m + c.press_v - c.vent * c.y;
     let dm_s = -m + c.m_strat - c.out_s;
-    let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_lb - c.mix_w - c.out_s * c.h_ls;
+    let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_lb - c.mix_w - c.out_s * c.h_ls
+        + c.q_pump_s;
     let rs = liquid_node_rates(c.pu, f_s, dm_s, c.t_s, c.rho_s);
     let du_u = c.q_wu - c.q_us + e_evap + c.press * c.h_press - c.vent * c.h_u
         + c.pu * (rs.y + c.dv_b) - c.pu * c.dv_slosh;
@@ -171,7 +174,11 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let delta = max((*s)[M_S] / (x.rho_s * a_i), 1.0e-6);
     let bulk_left = clamp((*s)[M_B] / (BULK_MERGE_FRACTION * ((*s)[M_B] + (*s)[M_S]) + 1.0e-9), 0.0, 1.0);
     let m_strat = x.rho_s * a_i * PI * alpha / (8.0 * delta) * bulk_left;
-    let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left;
+    // The jet mixer (nodes::rhs): ṁ_jet = (m_s m_b / (m_s + m_b)) / τ each way, and its heat.
+    let jet = jet_mixer(d);
+    let m_b = max((*s)[M_B], 0.0);
+    let m_jet = jet.x * (*s)[M_S] * m_b / max((*s)[M_S] + m_b, 1.0e-9) * bulk_left;
+    let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left + m_jet;
 
     let b = boundary_flows(s, d, x);
     let h_mass = h_us / (gas.rho * gas.cp);
@@ -191,7 +198,8 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - y);
     (*ds)[M_B] = -m_strat - out_b;
     let mix_w = m_mix * (h_ls - h_lb);
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
+    let q_pump_b = jet.y * bulk_left;
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b;
     let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
     (*ds)[H_B] = rb.x;
     let force = motion_rates(s, d, x, ds);
@@ -206,6 +214,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.m_strat = m_strat;
     c.out_s = out_s;
     c.mix_w = mix_w;
+    c.q_pump_s = jet.y * (1.0 - bulk_left);
     c.h_ls = h_ls;
     c.h_lb = h_lb;
     c.h_fg = fl_h_fg(t_s);
@@ -241,7 +250,17 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     wall_rates(x, env, q_wl, q_wu, rs.y + rb.y, ds);
     boundary_ledger(b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     (*ds)[E_WORK] = -pu * dv_slosh;
+    (*ds)[E_PUMP] = jet.y;
     return force;
+}
+
+/// The jet mixer's exchange rate 1/τ (1/s) and pump heat (W) in this phase: zero without
+/// `[mixer]` or where the phase turns it off (nodes::jet_mixer).
+fn jet_mixer(d: Drive) -> vec2<f32> {
+    if ((P.flags & FLAG_MIXER) == 0u || !d.mixing) {
+        return vec2<f32>(0.0, 0.0);
+    }
+    return vec2<f32>(P.mixer_rate_per_s, P.mixer_heat_w);
 }
 
 /// Homogeneous right-hand side into ds; returns the slosh force (none at this level).
@@ -275,7 +294,10 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
 
     (*ds)[M_B] = press_v - b.out - b.vent * b.y;
     (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - b.y);
-    (*ds)[H_B] = q_wl + q_wu + b.press * h_press - b.vent * h_u - b.out * h_l;
+    // The jet mixer's heat only: no stratification to destroy (homogeneous::rhs).
+    let q_pump = jet_mixer(d).y;
+    (*ds)[H_B] = q_wl + q_wu + b.press * h_press - b.vent * h_u - b.out * h_l + q_pump;
+    (*ds)[E_PUMP] = q_pump;
     let force = motion_rates(s, d, x, ds);
     wall_rates(x, env, q_wl, q_wu, (*ds)[M_B] / rho, ds);
     boundary_ledger(b, h_press, h_u, b.out * h_l, ds);

@@ -58,3 +58,57 @@ fn slosh_volume_coupling_work_is_accounted() {
         "{q:?}"
     );
 }
+
+/// The jet mixer (`[mixer]`) on every level, off in the coast: its pump heat is in the energy
+/// ledger (`E_PUMP`) exactly as the power times the phases it runs in, and the closure holds
+/// with it (integrated here step by step from the initial state, and through `simulate`).
+#[test]
+fn jet_mixer_adds_exactly_its_pump_heat_on_every_level() {
+    use cryoslosh::model::derive::Drive;
+    use cryoslosh::model::state::{energy_invariant, E_PUMP};
+    use cryoslosh::model::{rk4_step, Group};
+    use cryoslosh::simulate::{energy_scale, initial_state};
+    let heat_w = 50.0;
+    for level in LEVELS {
+        let c = load(
+            "lh2_upper_stage",
+            &[
+                &format!("campaign.fidelity={level}"),
+                "mixer.pump_flow_m3_s=0.01",
+                "mixer.nozzle_diameter_m=0.1",
+                &format!("mixer.pump_heat_w={heat_w}"),
+                "phases.coast.mixer=false",
+            ],
+        );
+        let p = &c.params;
+        let s0 = initial_state(&c, p);
+        let mut s = s0;
+        let mut on_s = 0.0;
+        for ph in &c.phases {
+            let (n, dt) = ph.steps();
+            for k in 0..n {
+                let drive = |t: f64| Drive::of_phase(ph, t, false);
+                rk4_step(Group::one(p), drive, &mut s, k as f64 * dt, dt, None);
+            }
+            if ph.mixer {
+                on_s += ph.duration_s;
+            }
+        }
+        assert_eq!(on_s, 720.0);
+        let expected = heat_w * on_s;
+        let pump_err = (s[E_PUMP] - expected).abs() / expected;
+        let closure = (energy_invariant(&s) - energy_invariant(&s0)).abs() / energy_scale(&s0, &s);
+        eprintln!(
+            "{level:12} E_PUMP {:.3} J (expected {expected} J, rel {pump_err:.1e}), closure {closure:.1e}",
+            s[E_PUMP]
+        );
+        assert!(pump_err < 1e-12, "{level}: E_PUMP {} J", s[E_PUMP]);
+        assert!(closure < 1e-6, "{level}: closure {closure:e}");
+        let q = simulate(&c, p, None);
+        assert!(!q.diverged, "{level}: {:?}", q.diverged_reason);
+        assert!(
+            q.mass_error_rel < 1e-9 && q.energy_error_rel < 1e-6,
+            "{level}: {q:?}"
+        );
+    }
+}

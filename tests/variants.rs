@@ -62,7 +62,8 @@ fn variants_share_inputs_and_pairing_narrows_the_intervals() {
             "baseline",
             "baffles",
             "thick_insulation",
-            "baffles_insulation"
+            "baffles_insulation",
+            "mixer"
         ]
     );
     // Instance i's dispersed inputs are the same bits under every variant.
@@ -119,7 +120,7 @@ fn a_variant_equal_to_the_baseline_differs_by_exactly_zero() {
     );
     let dir = scratch("same");
     let mut c = c;
-    c.variants = vec![c.variants[0].clone(), c.variants[4].clone()];
+    c.variants = vec![c.variants[0].clone(), c.variants.last().unwrap().clone()];
     let r = run(&c, &dir, 24, 1);
     let rows: Vec<_> = r
         .differences
@@ -159,7 +160,7 @@ fn nulls(path: &Path, column: &str) -> (usize, usize) {
 fn a_homogeneous_variant_has_null_slosh_and_stratification_and_no_differences_there() {
     let mut c =
         short_trade("\n[[variants]]\nname = \"homog\"\n\"campaign.fidelity\" = \"homogeneous\"\n");
-    c.variants = vec![c.variants[0].clone(), c.variants[4].clone()];
+    c.variants = vec![c.variants[0].clone(), c.variants.last().unwrap().clone()];
     let dir = scratch("homog");
     let n = 8;
     let r = run(&c, &dir, n, 2);
@@ -396,7 +397,7 @@ fn bad_variants_exit_2_with_one_line_naming_file_key_value_and_range() {
     );
     rejects(
         "\n[[variants]]\nname = \"baffles\"\n",
-        "variants.4.name",
+        "variants.5.name",
         "\"baffles\"",
         &["a name no other variant has"],
     );
@@ -417,6 +418,15 @@ fn bad_variants_exit_2_with_one_line_naming_file_key_value_and_range() {
         "variants.far.phases.9.duration_s",
         "3.0",
         &["index 9 out of range"],
+    );
+    // A variant that adds a [mixer] whose jet would be laminar (Re ≈ 7): outside the
+    // correlation's range.
+    rejects(
+        "\n[[variants]]\nname = \"laminar\"\n\"mixer.pump_flow_m3_s\" = 1e-7\n\
+         \"mixer.nozzle_diameter_m\" = 0.1\n\"mixer.pump_heat_w\" = 1.0\n",
+        "variants.laminar.mixer.pump_flow_m3_s",
+        "1e-7",
+        &["Reynolds", "below 3000"],
     );
     rejects(
         "\n[[variants]]\nname = \"level\"\n\"campaign.fidelity\" = \"bogus\"\n",

@@ -10,7 +10,7 @@ import pyarrow.parquet as pq
 import cryoslosh
 
 TRADE = "campaigns/tank_design_trade.toml"
-NAMES = ["baseline", "baffles", "thick_insulation", "baffles_insulation"]
+NAMES = ["baseline", "baffles", "thick_insulation", "baffles_insulation", "mixer"]
 # The shipped trade, shortened (as tests/variants.rs does).
 SHORT = {
     "phases.pad_hold.duration_s": 30,

@@ -415,6 +415,21 @@ pub fn describe(c: &Campaign) -> String {
             kv("flow_area_m2", r.flow_area_m2, "m²"),
         ),
     };
+    if let Some(m) = &p.mixer {
+        let d = 2.0 * p.tank.radius_m();
+        let f = p.fluid.props();
+        let t = p.liquid_temperature_k;
+        let _ = writeln!(
+            o,
+            "mixer: {}, {}, {}; jet {} m/s, Re_j {}, Fossett–Prosser t_mix {} s (τ = t_mix/ln 20)",
+            kv("pump_flow_m3_s", m.pump_flow_m3_s, "m³/s"),
+            kv("nozzle_diameter_m", m.nozzle_diameter_m, "m"),
+            kv("pump_heat_w", m.pump_heat_w, "W"),
+            number(m.jet_velocity_m_s()),
+            number(m.jet_reynolds(f.rho_l_kg_per_m3(t), f.mu_l_pa_s(t))),
+            number(m.mixing_time_s(d)),
+        );
+    }
     let fd = &p.feed;
     let _ = writeln!(
         o,
@@ -476,6 +491,9 @@ pub fn describe(c: &Campaign) -> String {
             ph.pressurize,
             excitation(c, i, &ph.excitation),
         );
+        if p.mixer.is_some() {
+            let _ = writeln!(o, "    mixer {}", if ph.mixer { "on" } else { "off" });
+        }
         if p.insulation.is_some() {
             let _ = writeln!(o, "    environment {}", ph.environment.name());
         }

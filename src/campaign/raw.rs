@@ -19,6 +19,7 @@ pub struct RawCampaign {
     pub pressurization: Option<RawPressurization>,
     pub relief: Option<RawRelief>,
     pub insulation: Option<RawInsulation>,
+    pub mixer: Option<RawMixer>,
     #[serde(default)]
     pub engine: RawEngine,
     #[serde(default)]
@@ -155,6 +156,16 @@ pub struct RawInsulation {
     pub outer_absorptivity: Option<f64>,
 }
 
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMixer {
+    /// Required; optional here so that `--set` can build the section a key at a time (the
+    /// validation names a missing one).
+    pub pump_flow_m3_s: Option<f64>,
+    pub nozzle_diameter_m: Option<f64>,
+    pub pump_heat_w: Option<f64>,
+}
+
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawEngine {
@@ -194,6 +205,8 @@ pub struct RawPhase {
     pub gravity_m_s2: Option<f64>,
     pub pressurize: Option<bool>,
     pub environment: Option<String>,
+    /// Whether the `[mixer]` runs in this phase (default true).
+    pub mixer: Option<bool>,
     pub excitation: Option<RawExcitation>,
 }
 

@@ -10,6 +10,7 @@ use std::path::Path;
 
 mod composition;
 mod insulation;
+mod mixer;
 mod phases;
 mod systems;
 
@@ -394,6 +395,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
     // Pressurization, relief, engine, feed, vehicle.
     let pressurization = systems::pressurization(&c, raw, fluid)?;
     let relief = systems::relief(&c, raw, meop_pa)?;
+    let mixer = mixer::mixer(&c, raw.mixer.as_ref(), fluid, t_liquid, tank.radius_m())?;
     let feed = systems::feed(&c, raw)?;
     let vehicle = systems::vehicle(&c, raw)?;
 
@@ -408,6 +410,14 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         .map(|(i, ph)| phase(&c, i, ph, dt_default, stepping.max_step_s, dir))
         .collect::<Result<Vec<_>, _>>()?;
     phase_names(&c, &phases)?;
+    mixer::phases(
+        &c,
+        mixer.as_ref(),
+        &raw.phases,
+        &phases,
+        stepping.integrator,
+        2.0 * tank.radius_m(),
+    )?;
     // A phase's environment selects the insulation's outer boundary; without a stack the fixed
     // tank.heat_leak_w applies in every phase, and the key would be ignored without a word.
     if insulation.is_none() {
@@ -442,6 +452,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         extra_damping,
         pressurization,
         relief,
+        mixer,
         feed,
         vehicle,
     };

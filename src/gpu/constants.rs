@@ -42,6 +42,7 @@ pub fn constants_wgsl() -> String {
         ("E_VENT", state::E_VENT),
         ("E_OUT", state::E_OUT),
         ("E_WORK", state::E_WORK),
+        ("E_PUMP", state::E_PUMP),
     ] {
         u(name, v as u32);
     }
@@ -56,6 +57,7 @@ pub fn constants_wgsl() -> String {
         ("FLAG_AUTOGENOUS", flag::AUTOGENOUS),
         ("FLAG_INSULATION", flag::INSULATION),
         ("FLAG_MLI", flag::MLI),
+        ("FLAG_MIXER", flag::MIXER),
         (
             "INSULATION_OUTER_ITERATIONS",
             crate::model::insulation::OUTER_ITERATIONS,

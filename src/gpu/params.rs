@@ -27,6 +27,8 @@ pub mod flag {
     pub const INSULATION: u32 = 256;
     /// The insulation has a multilayer blanket (else bare foam).
     pub const MLI: u32 = 512;
+    /// `[mixer]`: a jet mixer exchanges layer and bulk liquid and heats it (`model::mixer`).
+    pub const MIXER: u32 = 1024;
 }
 
 /// Excitation kinds in [`GpuPhase::exc_kind`].
@@ -110,6 +112,10 @@ gpu_struct! {
         pub relief_crack_pa: f32,
         pub relief_reseat_pa: f32,
         pub relief_area_m2: f32,
+        /// `[mixer]` (`model::mixer`): the exchange rate 1/τ = ln 20 / t_mix (1/s) and the pump
+        /// heat (W), applied in phases whose `mixer` is set.
+        pub mixer_rate_per_s: f32,
+        pub mixer_heat_w: f32,
         pub isp_s: f32,
         pub propellant_fraction: f32,
         pub line_height_m: f32,
@@ -136,6 +142,8 @@ gpu_struct! {
         pub pressurize: u32,
         /// The insulation faces space (`flight::Environment::Space`), else the ground.
         pub space: u32,
+        /// The jet mixer runs in this phase (`flight::Phase::mixer`; with `[mixer]` only).
+        pub mixer: u32,
         pub exc_kind: u32,
         pub table_start: u32,
         pub table_len: u32,
@@ -307,6 +315,9 @@ impl GpuParams {
         if rl.is_some() {
             flags |= flag::RELIEF;
         }
+        if p.mixer.is_some() {
+            flags |= flag::MIXER;
+        }
         let ins = p.insulation;
         if let Some(i) = ins {
             flags |= flag::INSULATION;
@@ -374,6 +385,8 @@ impl GpuParams {
             relief_crack_pa: rlf(|x| x.crack_pa),
             relief_reseat_pa: rlf(|x| x.reseat_pa),
             relief_area_m2: rlf(|x| x.flow_area_m2),
+            mixer_rate_per_s: f(crate::model::mixer::exchange_rate_per_s(p)),
+            mixer_heat_w: f(crate::model::mixer::pump_heat_w(p)),
             isp_s: f(p.feed.isp_s),
             propellant_fraction: f(p.feed.propellant_fraction),
             line_height_m: f(p.feed.line_height_m),
@@ -501,6 +514,7 @@ impl GpuPhase {
             n_steps: n as u32,
             pressurize: u32::from(ph.pressurize),
             space: u32::from(ph.environment == crate::model::flight::Environment::Space),
+            mixer: u32::from(ph.mixer),
             exc_kind,
             table_start,
             table_len,

@@ -55,6 +55,8 @@ pub struct Drive<T: Real = f64> {
     pub valve_open: T::Mask,
     /// The insulation faces space (else the ground environment).
     pub space: T::Mask,
+    /// The jet mixer runs (used only with `[mixer]`).
+    pub mixing: T::Mask,
 }
 
 impl Drive {
@@ -73,6 +75,7 @@ impl Drive {
             pressurize: phase.pressurize,
             valve_open,
             space: phase.environment == flight::Environment::Space,
+            mixing: phase.mixer,
         }
     }
 }
@@ -95,6 +98,7 @@ impl<T: Real> Drive<T> {
             pressurize: T::Mask::from_fn(|i| d[i].pressurize),
             valve_open: T::Mask::from_fn(|i| d[i].valve_open),
             space: T::Mask::from_fn(|i| d[i].space),
+            mixing: T::Mask::from_fn(|i| d[i].mixing),
         }
     }
 
@@ -111,6 +115,7 @@ impl<T: Real> Drive<T> {
             pressurize: self.pressurize.lane(i),
             valve_open: self.valve_open.lane(i),
             space: self.space.lane(i),
+            mixing: self.mixing.lane(i),
         }
     }
 }

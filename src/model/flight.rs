@@ -295,6 +295,8 @@ pub struct Phase {
     pub pressurize: bool,
     /// The insulation's surroundings (used only with `[insulation]`).
     pub environment: Environment,
+    /// Whether the jet mixer runs in this phase (used only with `[mixer]`; default on).
+    pub mixer: bool,
 }
 
 impl Phase {

@@ -10,6 +10,7 @@ pub mod dopri;
 pub mod flight;
 pub mod homogeneous;
 pub mod insulation;
+pub mod mixer;
 pub mod nodes;
 pub mod params;
 pub mod slosh;

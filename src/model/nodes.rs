@@ -24,7 +24,7 @@ pub struct Fluxes<T = f64> {
     pub evap_relaxation_per_s: T,
     /// Growth of the warm layer by entrainment of bulk liquid, kg/s.
     pub strat_kg_s: T,
-    /// Slosh mixing exchange, kg/s each way.
+    /// Layer ↔ bulk exchange by slosh mixing and the jet mixer, kg/s each way.
     pub mix_kg_s: T,
     /// Heat from the wetted wall into the liquid, W.
     pub q_wall_liquid_w: T,
@@ -281,7 +281,12 @@ pub fn rhs<T: Real>(
         (s[M_B] / ((s[M_B] + s[M_S]) * super::BULK_MERGE_FRACTION + 1.0e-9)).clamp_c(0.0, 1.0);
     let m_strat = x.rho_layer * a_i * PI * alpha / (delta * 8.0) * bulk_left;
     let mixing: T = g.get(|p| p.coupling.mixing);
-    let m_mix = mixing * s[M_S] * speed * bulk_left;
+    // The jet mixer (`model::mixer`): equal masses both ways at ṁ_jet = (m_s m_b / (m_s + m_b))
+    // / τ, so that ṁ_jet (1/m_s + 1/m_b) = 1/τ; its pump heat enters the liquid.
+    let (jet_per_s, q_pump) = jet_mixer(g, d);
+    let m_b = s[M_B].max_c(0.0);
+    let m_jet = jet_per_s * s[M_S] * m_b / (s[M_S] + m_b).max_c(1.0e-9) * bulk_left;
+    let m_mix = mixing * s[M_S] * speed * bulk_left + m_jet;
 
     let b = boundary::boundary_flows(g, s, d, x);
     // Gas-side mass-transfer coefficient by the heat/mass analogy (Le ≈ 1): h_m = h / (ρ c_p).
@@ -304,7 +309,9 @@ pub fn rhs<T: Real>(
     ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * y.rsub(1.0);
     ds[M_B] = -m_strat - out_b;
     let mix_w = m_mix * (h_ls - h_lb);
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb;
+    // The pump heat goes with the bulk, into the layer once the bulk has merged into it.
+    let (q_pump_b, q_pump_s) = (q_pump * bulk_left, q_pump * bulk_left.rsub(1.0));
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b;
     let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], &bulk);
     ds[H_B] = dh_b;
     let force = boundary::motion_rates(g, s, d, x, ds);
@@ -320,7 +327,7 @@ pub fn rhs<T: Real>(
         let e_evap = m.max_c(0.0) * (h_ls + h_fg) + m.min_c(0.0) * h_vap_gas;
         let dm_v = m + press_v - b.vent_kg_s * y;
         let dm_s = -m + m_strat - out_s;
-        let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls;
+        let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls + q_pump_s;
         let (dh_s, dv_s) = liquid_node_rates(pu, f_s, dm_s, &layer);
         let du_u = q_wu - q_us + e_evap + b.press_kg_s * h_press - b.vent_kg_s * h_u
             + pu * (dv_s + dv_b)
@@ -352,6 +359,7 @@ pub fn rhs<T: Real>(
     boundary::wall_rates(g, &tank, x, &env, q_wl, q_wu, dv_s + dv_b, ds);
     boundary::boundary_ledger(&b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     ds[E_WORK] = -pu * dv_slosh;
+    ds[E_PUMP] = q_pump;
 
     Fluxes {
         evap_kg_s: m_evap,
@@ -364,6 +372,20 @@ pub fn rhs<T: Real>(
         boundary: b,
         slosh_force_n: force,
     }
+}
+
+/// The jet mixer's exchange rate 1/τ (1/s) and pump heat (W) in each lane: 0 where the
+/// campaign has no `[mixer]` or the phase turns it off (`model::mixer`).
+pub(super) fn jet_mixer<T: Real>(g: Group<'_>, d: &Drive<T>) -> (T, T) {
+    if g.shared().mixer.is_none() {
+        return (c(0.0), c(0.0));
+    }
+    let rate: T = g.get(super::mixer::exchange_rate_per_s);
+    let heat: T = g.get(super::mixer::pump_heat_w);
+    (
+        T::select(d.mixing, rate, c(0.0)),
+        T::select(d.mixing, heat, c(0.0)),
+    )
 }
 
 /// Interfacial evaporation ṁ = K (P_sat(T_s) − P_v) (MODEL.md §4, [fix]: vapour partial pressure):

@@ -270,6 +270,8 @@ pub struct Params {
     pub extra_damping: f64,
     pub pressurization: Option<Pressurization>,
     pub relief: Option<Relief>,
+    /// The jet mixer of `[mixer]`, if any (`model::mixer`).
+    pub mixer: Option<super::mixer::Mixer>,
     pub feed: Feed,
     pub vehicle: Vehicle,
 }
@@ -302,6 +304,7 @@ impl Params {
             && self.tank.shape() == other.tank.shape()
             && self.pressurization.is_some() == other.pressurization.is_some()
             && self.relief.is_some() == other.relief.is_some()
+            && self.mixer.is_some() == other.mixer.is_some()
             && self.insulation.map(|i| (i.foam.is_some(), i.mli.is_some()))
                 == other
                     .insulation

@@ -60,8 +60,10 @@ pub const E_VENT: usize = 22;
 pub const E_OUT: usize = 23;
 /// ∫ −P dΔV_slosh dt, J (work of the paper's coupling-I volume term; 0 when c_V = 0).
 pub const E_WORK: usize = 24;
+/// ∫ Q_pump dt, J: the jet mixer's pump heat dissipated in the liquid (`model::mixer`).
+pub const E_PUMP: usize = 25;
 /// Number of state slots.
-pub const NS: usize = 25;
+pub const NS: usize = 26;
 
 /// A state vector (one per lane group: slot by slot, each slot a lane vector).
 pub type State<T = f64> = [T; NS];
@@ -233,5 +235,5 @@ pub fn mass_invariant(s: &State) -> f64 {
 /// constant to rounding (MODEL.md §10).
 pub fn energy_invariant(s: &State) -> f64 {
     let inside = s[U_U] + s[H_S] + s[H_B] + s[E_WD] + s[E_WW];
-    inside - (s[E_ENV] + s[E_PRESS] - s[E_VENT] - s[E_OUT] + s[E_WORK])
+    inside - (s[E_ENV] + s[E_PRESS] - s[E_VENT] - s[E_OUT] + s[E_WORK] + s[E_PUMP])
 }

@@ -136,7 +136,7 @@ pub fn energy_scale(s0: &State, s: &State) -> f64 {
         .iter()
         .map(|&i| s0[i].abs())
         .sum::<f64>()
-        + [E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK]
+        + [E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK, E_PUMP]
             .iter()
             .map(|&i| s[i].abs())
             .sum::<f64>()

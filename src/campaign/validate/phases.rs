@@ -138,6 +138,7 @@ pub(super) fn phase(
         excitation,
         pressurize: ph.pressurize.unwrap_or(true),
         environment,
+        mixer: ph.mixer.unwrap_or(true),
     })
 }
 
