@@ -254,11 +254,18 @@ fn bad_mixer_input_exits_2_naming_the_key_and_range() {
             "mixer.pump_flow_m3_s",
             "Reynolds",
         ),
-        // 0.01 m³/s through 0.02 m: u = 32 m/s, a jet of 358 W.
+        // 0.01 m³/s through 0.02 m: u = 32 m/s, a jet of 356.89 W (printed rounded up).
         (
             "mixer.nozzle_diameter_m=0.02",
             "mixer.pump_heat_w",
-            "[356.8",
+            "[356.9, 100000]: at least the jet's kinetic power",
+        ),
+        // 10 m³/s through 0.1 m: a jet of 5.7e8 W, above any allowed pump heat: the flow is
+        // named, not the heat (it used to ask for a heat in [5.7e8, 100000]).
+        (
+            "mixer.pump_flow_m3_s=10",
+            "mixer.pump_flow_m3_s",
+            "lower the flow or widen the nozzle",
         ),
         // τ = 6.6 s/0.02 / ln 20 = 110 s against 100 s steps.
         ("phases.0.dt_s=100", "mixer.pump_flow_m3_s", "dopri5"),
@@ -274,6 +281,18 @@ fn bad_mixer_input_exits_2_naming_the_key_and_range() {
         assert!(err.contains(key) && err.contains(says), "{bad}: {err}");
         assert!(err.contains("mhtb_selfpress.toml"), "{bad}: {err}");
     }
+    // The homogeneous level takes only the pump heat: its fixed step need not resolve the
+    // exchange time τ that refuses the 100 s steps above on the lumped level.
+    let mut sets = GOOD.to_vec();
+    sets[0] = "mixer.pump_flow_m3_s=0.02";
+    sets.extend(["phases.0.dt_s=100", "campaign.fidelity=homogeneous"]);
+    let o = check(&sets);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     // A switch without a mixer, and a key the section does not have.
     let o = check(&["phases.0.mixer=false"]);
     let err = String::from_utf8_lossy(&o.stderr);

@@ -416,6 +416,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         &raw.phases,
         &phases,
         stepping.integrator,
+        fidelity,
         2.0 * tank.radius_m(),
     )?;
     // A phase's environment selects the insulation's outer boundary; without a stack the fixed

@@ -7,11 +7,24 @@ use crate::campaign::{CampaignError, Integrator};
 use crate::fluids::Fluid;
 use crate::model::flight::Phase;
 use crate::model::mixer::{Mixer, MIN_JET_REYNOLDS};
+use crate::model::params::Fidelity;
 
 /// Most fixed RK4 steps per exchange time constant τ a campaign may ask for: at dt = τ / 2 the
 /// step's amplification of the layer–bulk difference is exp(−0.5) to 3e-4 relative (RK4's
 /// error in e^{−z} at z = 0.5), far inside RK4's stability bound z < 2.79.
 pub const MIN_STEPS_PER_EXCHANGE_TIME: f64 = 2.0;
+
+/// Largest pump heat a `[mixer]` may dissipate in the propellant, W.
+pub const MAX_PUMP_HEAT_W: f64 = 1.0e5;
+
+/// `w` rounded up to four significant digits, for a bound printed in a message.
+fn round_up(w: f64) -> f64 {
+    if w <= 0.0 || !w.is_finite() {
+        return w;
+    }
+    let scale = 10f64.powi(3 - w.log10().floor() as i32);
+    (w * scale).ceil() / scale
+}
 
 /// Validate `[mixer]` (`None` when the campaign has none) for propellant `fluid` at the initial
 /// liquid temperature `t_liquid_k` (K) in a tank of radius `radius_m` (m).
@@ -57,9 +70,36 @@ pub(super) fn mixer(
             ),
         ));
     }
-    // The jet's kinetic power is dissipated in the liquid: the pump's heat cannot be less.
+    // The jet's kinetic power is dissipated in the liquid: the pump's heat cannot be less, so a
+    // jet above the pump-heat ceiling is the flow's (or nozzle's) fault, not the heat's.
     let jet_w = partial.jet_power_w(rho);
-    let heat = c.range("mixer.pump_heat_w", heat_in, jet_w, 1.0e5)?;
+    if jet_w > MAX_PUMP_HEAT_W {
+        return Err(c.err(
+            "mixer.pump_flow_m3_s",
+            number(flow),
+            format!(
+                "a flow whose jet carries at most {} W (the ceiling of mixer.pump_heat_w): \
+                 ½ ρ Q u_j² = {} W with mixer.nozzle_diameter_m = {}; lower the flow or widen \
+                 the nozzle",
+                number(MAX_PUMP_HEAT_W),
+                number(round_up(jet_w)),
+                number(nozzle)
+            ),
+        ));
+    }
+    let heat = heat_in;
+    if !(heat.is_finite() && heat >= jet_w && heat <= MAX_PUMP_HEAT_W) {
+        return Err(c.err(
+            "mixer.pump_heat_w",
+            number(heat),
+            format!(
+                "a finite number in [{}, {}]: at least the jet's kinetic power ½ ρ Q u_j² \
+                 (the liquid dissipates it) with this flow and nozzle",
+                number(round_up(jet_w)),
+                number(MAX_PUMP_HEAT_W)
+            ),
+        ));
+    }
     Ok(Some(Mixer {
         pump_heat_w: heat,
         ..partial
@@ -68,13 +108,14 @@ pub(super) fn mixer(
 
 /// The per-phase switches: `phases.N.mixer` only with a `[mixer]` section (it would be ignored
 /// without a word), and a fixed RK4 step that resolves the exchange time constant τ in every
-/// phase where the mixer runs. `tank_diameter_m` in m.
+/// phase where the mixer runs (on the levels with a layer and a bulk). `tank_diameter_m` in m.
 pub(super) fn phases(
     c: &Checker,
     mixer: Option<&Mixer>,
     raw: &[RawPhase],
     phases: &[Phase],
     integrator: Integrator,
+    fidelity: Fidelity,
     tank_diameter_m: f64,
 ) -> Result<(), CampaignError> {
     let Some(m) = mixer else {
@@ -88,7 +129,9 @@ pub(super) fn phases(
         };
     };
     let tau = 1.0 / m.exchange_rate_per_s(tank_diameter_m);
-    if integrator != Integrator::Rk4 {
+    // The exchange acts between the layer and the bulk: the homogeneous level has neither and
+    // takes only the pump heat, so its step need not resolve τ.
+    if integrator != Integrator::Rk4 || fidelity == Fidelity::Homogeneous {
         return Ok(());
     }
     match phases
