@@ -255,7 +255,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 }
 
 /// The jet mixer's exchange rate 1/τ (1/s) and pump heat (W) in this phase: zero without
-/// `[mixer]` or where the phase turns it off (nodes::jet_mixer).
+/// `[mixer]` or where the phase turns it off (model::mixer::lanes).
 fn jet_mixer(d: Drive) -> vec2<f32> {
     if ((P.flags & FLAG_MIXER) == 0u || !d.mixing) {
         return vec2<f32>(0.0, 0.0);

@@ -188,7 +188,7 @@ pub fn rhs<T: Real>(
     ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * b.y_vapor.rsub(1.0);
     // The jet mixer: one well-mixed fluid has no stratification to destroy, so only its pump
     // heat acts (`model::mixer`).
-    let (_, q_pump) = super::nodes::jet_mixer(g, d);
+    let (_, q_pump) = super::mixer::lanes(g, d);
     ds[H_B] = q_wl + q_wu + b.press_kg_s * h_press - b.vent_kg_s * h_u - b.out_kg_s * h_l + q_pump;
     ds[E_PUMP] = q_pump;
     boundary::motion_rates(g, s, d, x, ds);

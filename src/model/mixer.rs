@@ -19,7 +19,10 @@
 //! h_s − h_b (and T_s − T_b to the variation of c_p) decays as exp(−t/τ) and reaches 5 % at
 //! t_mix. The pump's heat enters the liquid (`nodes::rhs`, `homogeneous::rhs`).
 
+use super::derive::Drive;
 use super::params::Params;
+use super::Group;
+use crate::lanes::{c, Real};
 
 /// Fossett & Prosser's constant in t_mix = C D² / √(Q u_j), –.
 pub const FOSSETT_PROSSER: f64 = 8.0;
@@ -88,4 +91,18 @@ pub fn exchange_rate_per_s(p: &Params) -> f64 {
 /// The pump heat of instance `p` while the mixer runs (W; 0 without a mixer).
 pub fn pump_heat_w(p: &Params) -> f64 {
     p.mixer.map_or(0.0, |m| m.pump_heat_w)
+}
+
+/// The jet mixer's exchange rate 1/τ (1/s) and pump heat (W) in each lane: 0 where the
+/// campaign has no `[mixer]` or the phase turns it off (`nodes::rhs`, `homogeneous::rhs`).
+pub(super) fn lanes<T: Real>(g: Group<'_>, d: &Drive<T>) -> (T, T) {
+    if g.shared().mixer.is_none() {
+        return (c(0.0), c(0.0));
+    }
+    let rate: T = g.get(exchange_rate_per_s);
+    let heat: T = g.get(pump_heat_w);
+    (
+        T::select(d.mixing, rate, c(0.0)),
+        T::select(d.mixing, heat, c(0.0)),
+    )
 }

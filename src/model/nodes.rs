@@ -283,7 +283,7 @@ pub fn rhs<T: Real>(
     let mixing: T = g.get(|p| p.coupling.mixing);
     // The jet mixer (`model::mixer`): equal masses both ways at ṁ_jet = (m_s m_b / (m_s + m_b))
     // / τ, so that ṁ_jet (1/m_s + 1/m_b) = 1/τ; its pump heat enters the liquid.
-    let (jet_per_s, q_pump) = jet_mixer(g, d);
+    let (jet_per_s, q_pump) = super::mixer::lanes(g, d);
     let m_b = s[M_B].max_c(0.0);
     let m_jet = jet_per_s * s[M_S] * m_b / (s[M_S] + m_b).max_c(1.0e-9) * bulk_left;
     let m_mix = mixing * s[M_S] * speed * bulk_left + m_jet;
@@ -372,20 +372,6 @@ pub fn rhs<T: Real>(
         boundary: b,
         slosh_force_n: force,
     }
-}
-
-/// The jet mixer's exchange rate 1/τ (1/s) and pump heat (W) in each lane: 0 where the
-/// campaign has no `[mixer]` or the phase turns it off (`model::mixer`).
-pub(super) fn jet_mixer<T: Real>(g: Group<'_>, d: &Drive<T>) -> (T, T) {
-    if g.shared().mixer.is_none() {
-        return (c(0.0), c(0.0));
-    }
-    let rate: T = g.get(super::mixer::exchange_rate_per_s);
-    let heat: T = g.get(super::mixer::pump_heat_w);
-    (
-        T::select(d.mixing, rate, c(0.0)),
-        T::select(d.mixing, heat, c(0.0)),
-    )
 }
 
 /// Interfacial evaporation ṁ = K (P_sat(T_s) − P_v) (MODEL.md §4, [fix]: vapour partial pressure):

@@ -46,8 +46,9 @@ pub fn is_variants_dir(dir: &Path) -> bool {
     dir.join("differences.parquet").is_file() && dir.join("variants").is_dir()
 }
 
-/// Remove the lock files the variants' own staging left in `DIR/variants/` (not results).
-fn drop_locks(dir: &Path) {
+/// Remove the lock files the variants' own staging left in `DIR/variants/` (not results; a
+/// run's and a report's alike).
+pub fn drop_locks(dir: &Path) {
     if let Ok(entries) = std::fs::read_dir(dir.join("variants")) {
         for e in entries.filter_map(Result::ok) {
             let name = e.file_name().to_string_lossy().into_owned();

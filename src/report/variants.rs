@@ -136,14 +136,7 @@ pub fn report_variants(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary
         });
     }
     // The variants' own staging left their lock files beside them (not part of the report).
-    if let Ok(entries) = std::fs::read_dir(at.join("variants")) {
-        for e in entries.filter_map(Result::ok) {
-            let name = e.file_name().to_string_lossy().into_owned();
-            if name.starts_with('.') && name.ends_with(".lock") {
-                let _ = std::fs::remove_file(e.path());
-            }
-        }
-    }
+    crate::montecarlo::variants::drop_locks(&at);
     let page = render(&campaign, dir, &get("cryoslosh.seed"), &columns, &rows);
     let index = at.join("index.html");
     std::fs::write(&index, page).map_err(|source| ReportError::Io {

@@ -43,7 +43,7 @@ pub(super) fn mixer(
     };
     let flow_in = required("mixer.pump_flow_m3_s", r.pump_flow_m3_s)?;
     let nozzle_in = required("mixer.nozzle_diameter_m", r.nozzle_diameter_m)?;
-    let heat_in = required("mixer.pump_heat_w", r.pump_heat_w)?;
+    let heat = required("mixer.pump_heat_w", r.pump_heat_w)?;
     let flow = c.range("mixer.pump_flow_m3_s", flow_in, 0.0, 10.0)?;
     let nozzle = c.positive("mixer.nozzle_diameter_m", nozzle_in, radius_m)?;
     let partial = Mixer {
@@ -87,7 +87,6 @@ pub(super) fn mixer(
             ),
         ));
     }
-    let heat = heat_in;
     if !(heat.is_finite() && heat >= jet_w && heat <= MAX_PUMP_HEAT_W) {
         return Err(c.err(
             "mixer.pump_heat_w",
@@ -128,12 +127,12 @@ pub(super) fn phases(
             None => Ok(()),
         };
     };
-    let tau = 1.0 / m.exchange_rate_per_s(tank_diameter_m);
     // The exchange acts between the layer and the bulk: the homogeneous level has neither and
     // takes only the pump heat, so its step need not resolve τ.
     if integrator != Integrator::Rk4 || fidelity == Fidelity::Homogeneous {
         return Ok(());
     }
+    let tau = 1.0 / m.exchange_rate_per_s(tank_diameter_m);
     match phases
         .iter()
         .position(|ph| ph.mixer && ph.steps().1 * MIN_STEPS_PER_EXCHANGE_TIME > tau)
