@@ -230,8 +230,9 @@ fn groups(c: &Campaign) -> Vec<LaneGroup> {
             let params: Vec<Params> = m.iter().map(|ci| ci.params).collect();
             let g = Group::of(&params);
             let dt = Lanes::from_fn(|i| m[i].phases[0].steps().1);
-            let drive =
-                |t: Lanes| Drive::gather(|i| Drive::of_phase(&m[i].phases[0], t.lane(i), false));
+            let drive = |t: Lanes| {
+                Drive::gather(|i| Drive::of_phase(&m[i].phases[0], t.lane(i), Default::default()))
+            };
             let s0: Vec<State> = m
                 .iter()
                 .map(|ci| cryoslosh::simulate::initial_state(ci, &ci.params))

@@ -25,7 +25,7 @@ use cryoslosh::campaign::Campaign;
 use cryoslosh::fluids::{FluidProps, HELIUM, R_UNIVERSAL};
 use cryoslosh::geometry::Shape;
 use cryoslosh::lanes::{Lanes, Real, WIDTH};
-use cryoslosh::model::derive::{Drive, MIN_WALL_SHARE};
+use cryoslosh::model::derive::{Drive, Switches, MIN_WALL_SHARE};
 use cryoslosh::model::params::{Fidelity, Params};
 use cryoslosh::model::state::{vapor_energy_offset, State, M_B, NS};
 use cryoslosh::model::{self, slosh, slosh_table, Group};
@@ -84,7 +84,14 @@ fn trajectory_rows(c: &Campaign, picks: &[u64]) -> Vec<Row> {
             while next < picks.len() && picks[next] == k {
                 out.push(Row {
                     params: *p,
-                    drive: Drive::of_phase(phase, t, valve),
+                    drive: Drive::of_phase(
+                        phase,
+                        t,
+                        Switches {
+                            relief: valve,
+                            tvs: false,
+                        },
+                    ),
                     dt,
                     state: s,
                 });
@@ -96,7 +103,16 @@ fn trajectory_rows(c: &Campaign, picks: &[u64]) -> Vec<Row> {
             let m_b0 = s[M_B];
             model::rk4_step(
                 g,
-                |tt| Drive::of_phase(phase, tt, valve),
+                |tt| {
+                    Drive::of_phase(
+                        phase,
+                        tt,
+                        Switches {
+                            relief: valve,
+                            tvs: false,
+                        },
+                    )
+                },
                 &mut s,
                 t,
                 dt,
@@ -104,7 +120,14 @@ fn trajectory_rows(c: &Campaign, picks: &[u64]) -> Vec<Row> {
             );
             let horizon = model::BULK_MERGE_DRAIN_S.max(2.0 * dt);
             model::merge_empty_bulk(p, &mut s, m_b0, (dt, horizon));
-            let d = Drive::of_phase(phase, t + dt, valve);
+            let d = Drive::of_phase(
+                phase,
+                t + dt,
+                Switches {
+                    relief: valve,
+                    tvs: false,
+                },
+            );
             let pressure = model::evaluate(g, &s, &d, dt).derived.p_ullage_pa;
             valve = model::update_valve(g, pressure, valve);
             k += 1;

@@ -127,9 +127,23 @@ fn dp_switch(p_u: f32, open: bool) -> f32 {
     return select(p_u - P.relief_crack_pa, P.relief_reseat_pa - p_u, open);
 }
 
+/// The TVS's switching function (model::tvs::switching: P_u − P_upper while off, P_lower − P_u
+/// while on).
+fn tvs_switch(p_u: f32, on: bool) -> f32 {
+    return select(p_u - P.tvs_upper_pa, P.tvs_lower_pa - p_u, on);
+}
+
+/// Switching function `kind` (0: the relief valve, open = `open`; 1: the TVS, on = TVS_ON).
+fn any_switch(kind: u32, p_u: f32, open: bool) -> f32 {
+    if (kind == 1u) {
+        return tvs_switch(p_u, TVS_ON);
+    }
+    return dp_switch(p_u, open);
+}
+
 /// The step fraction in [lo.x, hi.x] where the switching function crosses zero, g(lo) < 0 ≤
 /// g(hi): Illinois regula falsi on the dense output (adaptive::locate), to f32's resolution.
-fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2<f32>, hi_in: vec2<f32>, open: bool, r: ptr<function, GpuResult>) -> f32 {
+fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2<f32>, hi_in: vec2<f32>, open: bool, kind: u32, r: ptr<function, GpuResult>) -> f32 {
     var lo = lo_in;
     var hi = hi_in;
     var side = 0;
@@ -144,7 +158,7 @@ fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2
         var y = dp_dense(hi_s, th);
         let x = derive_state(&y, phase_drive(ph, t0 + th * h, open));
         (*r).evaluations += 1u;
-        let v = dp_switch(x.p_u, open);
+        let v = any_switch(kind, x.p_u, open);
         if (v >= 0.0) {
             hi = vec2<f32>(th, v);
             if (side == 1) {
@@ -205,6 +219,7 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
         K[0][j] = r.k1[j];
     }
     var valve = r.valve_open != 0u;
+    TVS_ON = r.tvs_on != 0u;
     var have_k1 = r.have_k1 != 0u;
     var ip = r.phase;
     PHASE_SLOT = base + min(ip, P.n_phases - 1u);
@@ -318,10 +333,10 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             let gm = dp_switch(ev_mid.x.p_u, open);
             let g1 = dp_switch(ev7.x.p_u, open);
             if (gm >= 0.0) {
-                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.0, g0), vec2<f32>(0.5, gm), open, &r);
+                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.0, g0), vec2<f32>(0.5, gm), open, 0u, &r);
                 cut = true;
             } else if (g1 >= 0.0) {
-                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.5, gm), vec2<f32>(1.0, g1), open, &r);
+                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.5, gm), vec2<f32>(1.0, g1), open, 0u, &r);
                 cut = true;
             }
             // A switch is where the pressure reaches the crack (or reseat): near an empty tank the
@@ -335,6 +350,31 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
                 if (!(abs(dp_switch(x_cut.p_u, open)) <= 1.0e-3 * P.relief_crack_pa)) {
                     cut = false;
                     theta_end = 1.0;
+                }
+            }
+        }
+        // The TVS's switch, if it comes before the valve's (adaptive.rs: the earlier one cuts).
+        var cut_tvs = false;
+        let tvs_was = TVS_ON;
+        if ((P.flags & FLAG_TVS) != 0u && ph.tvs != 0u) {
+            let g0 = tvs_switch(r.p_ullage_pa, tvs_was);
+            let gm = tvs_switch(ev_mid.x.p_u, tvs_was);
+            let g1 = tvs_switch(ev7.x.p_u, tvs_was);
+            var th = 2.0;
+            if (gm >= 0.0) {
+                th = dp_locate(&hi, ph, t0, h, vec2<f32>(0.0, g0), vec2<f32>(0.5, gm), open, 1u, &r);
+            } else if (g1 >= 0.0) {
+                th = dp_locate(&hi, ph, t0, h, vec2<f32>(0.5, gm), vec2<f32>(1.0, g1), open, 1u, &r);
+            }
+            if (th <= 1.0 && (!cut || th < theta_end)) {
+                // As for the valve: a root where the pressure is not at the band's end is none.
+                var y_cut = dp_dense(&hi, th);
+                let x_cut = derive_state(&y_cut, phase_drive(ph, t0 + th * h, open));
+                r.evaluations += 1u;
+                if (abs(tvs_switch(x_cut.p_u, tvs_was)) <= 1.0e-3 * P.tvs_upper_pa) {
+                    cut = true;
+                    cut_tvs = true;
+                    theta_end = th;
                 }
             }
         }
@@ -355,7 +395,11 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
         var t_end = t0 + h;
         if (cut) {
             t_end = t0 + theta_end * h;
-            valve = !open;
+            if (cut_tvs) {
+                TVS_ON = !tvs_was;
+            } else {
+                valve = !open;
+            }
         } else if (landing == LAND_PHASE_END) {
             t_end = ph.duration_s;
         } else if (landing == LAND_CORNER) {
@@ -386,8 +430,11 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             r.t_phase_s = t_end;
             break;
         }
-        if (cut && !open) {
+        if (cut && !cut_tvs && !open) {
             r.relief_cycles += 1u;
+        }
+        if (cut_tvs && !tvs_was) {
+            r.tvs_cycles += 1u;
         }
         if (bad.x != 0.0) {
             r.diverged = u32(bad.x);
@@ -500,6 +547,7 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     r.phase = ip;
     r.valve_open = u32(valve);
+    r.tvs_on = u32(TVS_ON);
     r.have_k1 = u32(have_k1);
     r.done = u32(ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u);
     for (var j = 0u; j < NS; j++) {

@@ -41,7 +41,12 @@ struct Drive {
     valve_open: bool,
     space: bool,
     mixing: bool,
+    tvs_on: bool,
 }
+
+/// The thermodynamic vent system runs (model::tvs): the invocation's switch state, loaded from
+/// and saved to the result record by the kernels, read by every drive.
+var<private> TVS_ON: bool;
 
 fn table_interp(ph: GpuPhase, col: u32, t: f32) -> f32 {
     let n = ph.table_len;
@@ -130,6 +135,7 @@ fn phase_drive(ph: GpuPhase, t: f32, valve_open: bool) -> Drive {
     d.valve_open = valve_open;
     d.space = ph.space != 0u;
     d.mixing = ph.mixer != 0u;
+    d.tvs_on = TVS_ON && ph.tvs != 0u;
     return d;
 }
 

@@ -154,6 +154,33 @@ fn enter_phase(slot: u32, r: ptr<function, GpuResult>, hi: ptr<function, St>, lo
     ph.press_in_hi = (*hi)[PRESS_IN];
     ph.press_in_lo = (*lo)[PRESS_IN];
     phase_results[slot] = ph;
+    // The new phase may switch the TVS off, or let it start above its band.
+    switch_tvs(r, phases[slot], (*r).p_ullage_pa);
+}
+
+/// The TVS's hysteresis (model::tvs::update) under the phase's switch `enabled`.
+fn update_tvs(pressure: f32, on: bool, enabled: bool) -> bool {
+    if ((P.flags & FLAG_TVS) == 0u || !enabled) {
+        return false;
+    }
+    if (pressure >= P.tvs_upper_pa) {
+        return true;
+    }
+    if (pressure <= P.tvs_lower_pa) {
+        return false;
+    }
+    return on;
+}
+
+/// Update TVS_ON at ullage pressure `pressure` under phase `ph`, counting a start
+/// (LaneRun::switch_tvs). Returns whether it switched.
+fn switch_tvs(r: ptr<function, GpuResult>, ph: GpuPhase, pressure: f32) -> bool {
+    let before = TVS_ON;
+    TVS_ON = update_tvs(pressure, before, ph.tvs != 0u);
+    if (TVS_ON && !before) {
+        (*r).tvs_cycles += 1u;
+    }
+    return TVS_ON != before;
 }
 
 fn update_valve(pressure: f32, open: bool) -> bool {
@@ -270,13 +297,20 @@ fn start_instance(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<fu
     (*r).started = 1u;
     (*r).peak_pressure_pa = -3.4e38;
     (*r).min_pressure_pa = 3.4e38;
-    let d0 = phase_drive(phases[base], 0.0, false);
-    let ev0 = evaluate(hi, d0, dt);
+    // A TVS whose band the initial pressure already reaches runs from the start.
+    TVS_ON = false;
+    var d0 = phase_drive(phases[base], 0.0, false);
+    var ev0 = evaluate(hi, d0, dt);
+    if (switch_tvs(r, phases[base], ev0.x.p_u)) {
+        d0 = phase_drive(phases[base], 0.0, false);
+        ev0 = evaluate(hi, d0, dt);
+    }
     (*r).m_vapor0_kg = ev0.x.m_v;
     (*r).m_liquid0_kg = ev0.x.m_l;
     save_last(r, ev0.x);
     (*r).last_angle_rad = abs(slosh_angle(hi, ev0.x.sl));
     enter_phase(base, r, hi, lo);
+    (*r).tvs_on = u32(TVS_ON);
     PHASE_SLOT = base;
     observe(r, hi, 0.0, ev0, d0);
     return ev0;

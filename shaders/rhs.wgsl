@@ -51,6 +51,9 @@ struct EvapTail {
     mix_w: f32,
     /// The pump heat's layer share once the bulk has merged into it, W.
     q_pump_s: f32,
+    /// The TVS's draw from the layer (kg/s) and the enthalpy it leaves with (J/kg).
+    tvs_s: f32,
+    h_tvs_s: f32,
     h_ls: f32,
     h_lb: f32,
     h_fg: f32,
@@ -84,9 +87,9 @@ struct EvapTail {
 fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
     let e_evap = max(m, 0.0) * (c.h_ls + c.h_fg) + min(m, 0.0) * c.h_vap_gas;
     let dm_v = m + c.press_v - c.vent * c.y;
-    let dm_s = -m + c.m_strat - c.out_s;
+    let dm_s = -m + c.m_strat - c.out_s - c.tvs_s;
     let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_lb - c.mix_w - c.out_s * c.h_ls
-        + c.q_pump_s;
+        + c.q_pump_s - c.tvs_s * c.h_tvs_s;
     let rs = liquid_node_rates(c.pu, f_s, dm_s, c.t_s, c.rho_s);
     let du_u = c.q_wu - c.q_us + e_evap + c.press * c.h_press - c.vent * c.h_u
         + c.pu * (rs.y + c.dv_b) - c.pu * c.dv_slosh;
@@ -178,13 +181,19 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let jet = jet_mixer(d);
     let m_b = max((*s)[M_B], 0.0);
     let m_jet = jet.x * (*s)[M_S] * m_b / max((*s)[M_S] + m_b, 1.0e-9) * bulk_left;
-    let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left + m_jet;
+    // The TVS's spray (model::tvs): the layer's share of the recirculated liquid each way.
+    let tv = tvs_flows(d);
+    let m_spray = tv.pump_m3_s * x.rho_b * (*s)[M_S] / max((*s)[M_S] + m_b, 1.0e-9) * bulk_left;
+    let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left + m_jet + m_spray;
+    let q_pump = jet.y + tv.pump_heat_w;
 
     let b = boundary_flows(s, d, x);
     let h_mass = h_us / (gas.rho * gas.cp);
     let kd = evaporation_driving(s, x, h_mass);
     let out_b = b.out * bulk_left;
     let out_s = b.out * (1.0 - bulk_left);
+    let tvs_b = tv.vent * bulk_left;
+    let tvs_s = tv.vent * (1.0 - bulk_left);
 
     let h_ls = fl_h_l(t_s);
     let h_lb = fl_h_l(t_b);
@@ -196,10 +205,12 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let pu = x.p_u;
 
     (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - y);
-    (*ds)[M_B] = -m_strat - out_b;
+    (*ds)[M_B] = -m_strat - out_b - tvs_b;
     let mix_w = m_mix * (h_ls - h_lb);
-    let q_pump_b = jet.y * bulk_left;
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b;
+    let q_pump_b = q_pump * bulk_left;
+    let h_tvs_b = select(h_lb, tv.h_vent, t_b > tv.t_jt);
+    let h_tvs_s = select(h_ls, tv.h_vent, t_s > tv.t_jt);
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b - tvs_b * h_tvs_b;
     let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
     (*ds)[H_B] = rb.x;
     let force = motion_rates(s, d, x, ds);
@@ -214,7 +225,9 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.m_strat = m_strat;
     c.out_s = out_s;
     c.mix_w = mix_w;
-    c.q_pump_s = jet.y * (1.0 - bulk_left);
+    c.q_pump_s = q_pump * (1.0 - bulk_left);
+    c.tvs_s = tvs_s;
+    c.h_tvs_s = h_tvs_s;
     c.h_ls = h_ls;
     c.h_lb = h_lb;
     c.h_fg = fl_h_fg(t_s);
@@ -250,8 +263,32 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     wall_rates(x, env, q_wl, q_wu, rs.y + rb.y, ds);
     boundary_ledger(b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     (*ds)[E_WORK] = -pu * dv_slosh;
-    (*ds)[E_PUMP] = jet.y;
+    (*ds)[E_PUMP] = q_pump;
+    (*ds)[VENT_TVS] = tv.vent;
+    (*ds)[E_VENT] += tvs_b * h_tvs_b + tvs_s * h_tvs_s;
     return force;
+}
+
+/// What the TVS does in this phase (model::tvs::lanes): zero without `[tvs]` or while off.
+struct TvsFlows {
+    vent: f32,
+    pump_m3_s: f32,
+    pump_heat_w: f32,
+    t_jt: f32,
+    h_vent: f32,
+}
+
+fn tvs_flows(d: Drive) -> TvsFlows {
+    var t: TvsFlows;
+    if ((P.flags & FLAG_TVS) == 0u || !d.tvs_on) {
+        return t;
+    }
+    t.vent = P.tvs_flow_kg_s;
+    t.pump_m3_s = P.tvs_pump_m3_s;
+    t.pump_heat_w = P.tvs_pump_heat_w;
+    t.t_jt = P.tvs_t_jt_k;
+    t.h_vent = P.tvs_h_vent;
+    return t;
 }
 
 /// The jet mixer's exchange rate 1/τ (1/s) and pump heat (W) in this phase: zero without
@@ -292,14 +329,19 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
     let h_press = pressurant_inlet_enthalpy(x.p_u);
     let press_v = b.press * pressurant_vapor_share();
 
-    (*ds)[M_B] = press_v - b.out - b.vent * b.y;
+    // The TVS draws liquid that leaves at h_g(T_jt) (homogeneous::rhs).
+    let tv = tvs_flows(d);
+    let h_tvs = select(h_l, tv.h_vent, t > tv.t_jt);
+    (*ds)[M_B] = press_v - b.out - b.vent * b.y - tv.vent;
     (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - b.y);
-    // The jet mixer's heat only: no stratification to destroy (homogeneous::rhs).
-    let q_pump = jet_mixer(d).y;
-    (*ds)[H_B] = q_wl + q_wu + b.press * h_press - b.vent * h_u - b.out * h_l + q_pump;
+    // The mixer's and the spray pump's heat only: no stratification to destroy.
+    let q_pump = jet_mixer(d).y + tv.pump_heat_w;
+    (*ds)[H_B] = q_wl + q_wu + b.press * h_press - b.vent * h_u - b.out * h_l + q_pump - tv.vent * h_tvs;
     (*ds)[E_PUMP] = q_pump;
     let force = motion_rates(s, d, x, ds);
     wall_rates(x, env, q_wl, q_wu, (*ds)[M_B] / rho, ds);
     boundary_ledger(b, h_press, h_u, b.out * h_l, ds);
+    (*ds)[VENT_TVS] = tv.vent;
+    (*ds)[E_VENT] += tv.vent * h_tvs;
     return force;
 }

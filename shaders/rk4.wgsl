@@ -32,6 +32,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     var valve = r.valve_open != 0u;
+    TVS_ON = r.tvs_on != 0u;
     var have_k1 = r.have_k1 != 0u;
     var ip = r.phase;
     var k = r.step_in_phase;
@@ -111,13 +112,15 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (valve && !before) {
             r.relief_cycles += 1u;
         }
-        have_k1 = valve == before && k != ph.n_steps && !merged;
+        let tvs_switched = switch_tvs(&r, ph, ev.x.p_u);
+        have_k1 = valve == before && !tvs_switched && k != ph.n_steps && !merged;
         k1 = ev.ds;
         save_last(&r, ev.x);
     }
     r.phase = ip;
     r.step_in_phase = k;
     r.valve_open = u32(valve);
+    r.tvs_on = u32(TVS_ON);
     r.have_k1 = u32(have_k1);
     r.done = u32(ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u);
     for (var j = 0u; j < NS; j++) {

@@ -131,7 +131,7 @@ fn initial_state_matches_the_composition_keys() {
         let x = derive(
             Group::one(p),
             &s,
-            &Drive::of_phase(&c.phases[0], 0.0, false),
+            &Drive::of_phase(&c.phases[0], 0.0, Default::default()),
         );
         assert!(
             (x.p_ullage_pa - 246_500.0).abs() < 1e-6 * 246_500.0,

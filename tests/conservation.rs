@@ -87,7 +87,7 @@ fn jet_mixer_adds_exactly_its_pump_heat_on_every_level() {
         for ph in &c.phases {
             let (n, dt) = ph.steps();
             for k in 0..n {
-                let drive = |t: f64| Drive::of_phase(ph, t, false);
+                let drive = |t: f64| Drive::of_phase(ph, t, Default::default());
                 rk4_step(Group::one(p), drive, &mut s, k as f64 * dt, dt, None);
             }
             if ph.mixer {
@@ -110,5 +110,54 @@ fn jet_mixer_adds_exactly_its_pump_heat_on_every_level() {
             q.mass_error_rel < 1e-9 && q.energy_error_rel < 1e-6,
             "{level}: {q:?}"
         );
+    }
+}
+
+/// The thermodynamic vent system (`[tvs]`) held on for two hours of the shipped coast on every
+/// level: the vented mass is the J-T flow times the time (`VENT_TVS`), each kilogram carries
+/// h_g(T_jt) out (`E_VENT`, the liquid staying warmer than T_jt), the pump heat is in `E_PUMP`,
+/// and mass and energy close.
+#[test]
+fn tvs_vents_its_flow_at_the_vapour_enthalpy_on_every_level() {
+    use cryoslosh::model::derive::{Drive, Switches};
+    use cryoslosh::model::state::{energy_invariant, mass_invariant, E_PUMP, E_VENT, VENT_TVS};
+    use cryoslosh::model::{rk4_step, Group};
+    use cryoslosh::simulate::{energy_scale, initial_state};
+    for level in LEVELS {
+        let c = load(
+            "lh2_tvs_coast",
+            &[
+                &format!("campaign.fidelity={level}"),
+                "phases.0.duration_s=7200",
+            ],
+        );
+        let p = &c.params;
+        let tvs = p.tvs.unwrap();
+        let s0 = initial_state(&c, p);
+        let mut s = s0;
+        let ph = &c.phases[0];
+        let dt = 10.0;
+        let on = Switches {
+            relief: false,
+            tvs: true,
+        };
+        for k in 0..720 {
+            let drive = |t: f64| Drive::of_phase(ph, t, on);
+            rk4_step(Group::one(p), drive, &mut s, k as f64 * dt, dt, None);
+        }
+        let vented = tvs.jt_flow_kg_s * 7200.0;
+        let carried = tvs.vent_enthalpy_j_per_kg * s[VENT_TVS];
+        let pump = tvs.pump_heat_w * 7200.0;
+        let mass = (mass_invariant(&s) - mass_invariant(&s0)).abs() / mass_invariant(&s0);
+        let closure = (energy_invariant(&s) - energy_invariant(&s0)).abs() / energy_scale(&s0, &s);
+        eprintln!(
+            "{level:12} VENT_TVS {:.6} kg (flow × time {vented:.6}), E_VENT {:.1} J (h_g × m {carried:.1}), E_PUMP {:.1} J, mass {mass:.1e}, energy {closure:.1e}",
+            s[VENT_TVS], s[E_VENT], s[E_PUMP]
+        );
+        assert!((s[VENT_TVS] - vented).abs() <= 1e-12 * vented, "{level}");
+        assert!((s[E_VENT] - carried).abs() <= 1e-12 * carried, "{level}");
+        assert!((s[E_PUMP] - pump).abs() <= 1e-12 * pump, "{level}");
+        assert!(mass < 1e-13, "{level}: mass {mass:e}");
+        assert!(closure < 1e-12, "{level}: closure {closure:e}");
     }
 }

@@ -481,3 +481,57 @@ fn gpu_matches_cpu_with_a_jet_mixer() {
     }
     parity_on_trade_variants(|name| name == "mixer", n);
 }
+
+/// `[tvs]` (issue 17): the shipped 24 h LH2 coast with its thermodynamic vent system on every
+/// level (and under fixed RK4 steps on the lumped one): the headline QoIs, the vented mass and
+/// the number of starts.
+#[test]
+fn gpu_matches_cpu_with_a_thermodynamic_vent_system() {
+    let Some(gpu) = engine() else { return };
+    let cpu = CpuEngine::new(0).unwrap();
+    // Fixed steps cost lavapipe 4320 steps per instance: the lumped level only, fewer.
+    let cases = LEVELS
+        .iter()
+        .map(|&level| ("dopri5", level, 24))
+        .chain([("rk4", "lumped", 8)]);
+    for (integrator, level, n) in cases {
+        {
+            let sets = [
+                format!("campaign.fidelity={level}"),
+                format!("campaign.integrator={integrator}"),
+                "phases.0.dt_s=20".to_string(),
+            ];
+            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+            let c = load("lh2_tvs_coast", &sets);
+            let plan = Plan {
+                campaign: &c,
+                seed: c.seed,
+                total: n,
+            };
+            let (a, b) = (
+                cpu.run_block(&plan, 0..n).unwrap(),
+                gpu.run_block(&plan, 0..n).unwrap(),
+            );
+            let name = format!("lh2_tvs_coast/{integrator}");
+            compare(&name, level, &a, &b);
+            let vented = a
+                .iter()
+                .zip(&b)
+                .map(|(x, y)| (x.summary.tvs_vented_kg, y.summary.tvs_vented_kg, 1.0e-3))
+                .collect();
+            compare_values(&name, level, "tvs_vented_kg", vented);
+            let same = a
+                .iter()
+                .zip(&b)
+                .filter(|(x, y)| x.summary.tvs_cycles == y.summary.tvs_cycles)
+                .count();
+            let starts: u64 = a.iter().map(|x| x.summary.tvs_cycles).sum();
+            println!("{name}/{level}: starts agree on {same} of {n} ({starts} starts on the CPU)");
+            assert!(starts > 0, "{name}/{level}: the TVS never started");
+            assert!(
+                same + 1 >= n as usize,
+                "{name}/{level}: starts agree on {same} of {n}"
+            );
+        }
+    }
+}

@@ -11,8 +11,8 @@ PI = math.pi
 
 # State slots (src/model/state.rs).
 M_V, M_G, U_U, M_S, H_S, M_B, H_B, E_WD, E_WW, Q1, Q1D, Q2, Q2D, VEL, ALT, P_FILT = range(16)
-VENT_V, VENT_G, OUT, PRESS_IN, E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK, E_PUMP = range(16, 26)
-NS = 26  # E_PUMP (the jet mixer's heat) stays 0 here: the port has no [mixer]
+VENT_V, VENT_G, OUT, PRESS_IN, E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK, E_PUMP, VENT_TVS = range(16, 27)
+NS = 27  # E_PUMP (the jet mixer's heat) and VENT_TVS stay 0 here: the port has no [mixer] or [tvs]
 
 # Solver caps and tolerances, private constants of the Rust code.
 FLUID_MAX_ITER = 40  # fluids/mod.rs MAX_ITER

@@ -154,7 +154,7 @@ pub fn describe(c: &Campaign) -> String {
     let x = derive(
         crate::model::Group::one(p),
         &s0,
-        &Drive::of_phase(&c.phases[0], 0.0, false),
+        &Drive::of_phase(&c.phases[0], 0.0, Default::default()),
     );
     let n = number;
     let st = &c.stepping;
@@ -430,6 +430,19 @@ pub fn describe(c: &Campaign) -> String {
             number(m.mixing_time_s(d)),
         );
     }
+    if let Some(t) = &p.tvs {
+        let _ = writeln!(
+            o,
+            "tvs: band {} to {} Pa, {}, {} (T_sat {} K), {}, {}",
+            number(t.band_lower_pa),
+            number(t.band_upper_pa),
+            kv("jt_flow_kg_s", t.jt_flow_kg_s, "kg/s"),
+            kv("jt_outlet_pa", t.jt_outlet_pa, "Pa"),
+            number((t.jt_temperature_k * 1000.0).round() / 1000.0),
+            kv("pump_flow_m3_s", t.pump_flow_m3_s, "m³/s"),
+            kv("pump_heat_w", t.pump_heat_w, "W"),
+        );
+    }
     let fd = &p.feed;
     let _ = writeln!(
         o,
@@ -493,6 +506,9 @@ pub fn describe(c: &Campaign) -> String {
         );
         if p.mixer.is_some() {
             let _ = writeln!(o, "    mixer {}", if ph.mixer { "on" } else { "off" });
+        }
+        if p.tvs.is_some() {
+            let _ = writeln!(o, "    tvs {}", if ph.tvs { "may run" } else { "off" });
         }
         if p.insulation.is_some() {
             let _ = writeln!(o, "    environment {}", ph.environment.name());

@@ -20,6 +20,7 @@ pub struct RawCampaign {
     pub relief: Option<RawRelief>,
     pub insulation: Option<RawInsulation>,
     pub mixer: Option<RawMixer>,
+    pub tvs: Option<RawTvs>,
     #[serde(default)]
     pub engine: RawEngine,
     #[serde(default)]
@@ -166,6 +167,21 @@ pub struct RawMixer {
     pub pump_heat_w: Option<f64>,
 }
 
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTvs {
+    /// Required; optional here so that `--set` can build the section a key at a time (the
+    /// validation names a missing one).
+    pub band_upper_pa: Option<f64>,
+    pub band_lower_pa: Option<f64>,
+    pub jt_flow_kg_s: Option<f64>,
+    pub jt_outlet_pa: Option<f64>,
+    /// Default 0 (no recirculation pump).
+    pub pump_flow_m3_s: Option<f64>,
+    /// Default 0.
+    pub pump_heat_w: Option<f64>,
+}
+
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawEngine {
@@ -207,6 +223,8 @@ pub struct RawPhase {
     pub environment: Option<String>,
     /// Whether the `[mixer]` runs in this phase (default true).
     pub mixer: Option<bool>,
+    /// Whether the `[tvs]` may run in this phase (default true).
+    pub tvs: Option<bool>,
     pub excitation: Option<RawExcitation>,
 }
 

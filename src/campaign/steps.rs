@@ -53,7 +53,11 @@ pub fn plan(c: &Campaign) -> Vec<PhasePlan> {
                 Fidelity::Homogeneous => None,
                 _ if !excited => None,
                 _ => {
-                    let x = derive(Group::one(p), &s0, &Drive::of_phase(ph, 0.0, false));
+                    let x = derive(
+                        Group::one(p),
+                        &s0,
+                        &Drive::of_phase(ph, 0.0, Default::default()),
+                    );
                     let omega = x.slosh.omega[0];
                     (omega > 0.0).then(|| std::f64::consts::TAU / omega)
                 }

@@ -13,6 +13,7 @@ mod insulation;
 mod mixer;
 mod phases;
 mod systems;
+mod tvs;
 
 use phases::{phase, phase_names};
 
@@ -396,6 +397,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
     let pressurization = systems::pressurization(&c, raw, fluid)?;
     let relief = systems::relief(&c, raw, meop_pa)?;
     let mixer = mixer::mixer(&c, raw.mixer.as_ref(), fluid, t_liquid, tank.radius_m())?;
+    let tvs = tvs::tvs(&c, raw, fluid, relief.as_ref())?;
     let feed = systems::feed(&c, raw)?;
     let vehicle = systems::vehicle(&c, raw)?;
 
@@ -418,6 +420,14 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         stepping.integrator,
         fidelity,
         2.0 * tank.radius_m(),
+    )?;
+    tvs::phases(
+        &c,
+        (tvs.as_ref(), pressurization.as_ref()),
+        &raw.phases,
+        &phases,
+        (stepping.integrator, fidelity),
+        fill * tank.volume_m3(),
     )?;
     // A phase's environment selects the insulation's outer boundary; without a stack the fixed
     // tank.heat_leak_w applies in every phase, and the key would be ignored without a word.
@@ -454,6 +464,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         pressurization,
         relief,
         mixer,
+        tvs,
         feed,
         vehicle,
     };

@@ -43,6 +43,7 @@ pub fn constants_wgsl() -> String {
         ("E_OUT", state::E_OUT),
         ("E_WORK", state::E_WORK),
         ("E_PUMP", state::E_PUMP),
+        ("VENT_TVS", state::VENT_TVS),
     ] {
         u(name, v as u32);
     }
@@ -58,6 +59,7 @@ pub fn constants_wgsl() -> String {
         ("FLAG_INSULATION", flag::INSULATION),
         ("FLAG_MLI", flag::MLI),
         ("FLAG_MIXER", flag::MIXER),
+        ("FLAG_TVS", flag::TVS),
         (
             "INSULATION_OUTER_ITERATIONS",
             crate::model::insulation::OUTER_ITERATIONS,

@@ -367,6 +367,7 @@ fn summarize(
         peak_slosh_force_n: f(r.peak_slosh_force_n),
         peak_slosh_moment_n_m: f(r.peak_slosh_moment_n_m),
         relief_cycles: u64::from(r.relief_cycles),
+        tvs_cycles: u64::from(r.tvs_cycles),
         slosh_out_of_range: r.slosh_out != 0,
         slosh_out_of_range_fraction: if r.final_time_s > 0.0 {
             f(r.slosh_out_time_s) / f(r.final_time_s)

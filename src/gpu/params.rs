@@ -29,6 +29,8 @@ pub mod flag {
     pub const MLI: u32 = 512;
     /// `[mixer]`: a jet mixer exchanges layer and bulk liquid and heats it (`model::mixer`).
     pub const MIXER: u32 = 1024;
+    /// `[tvs]`: a thermodynamic vent system holds the pressure in a band (`model::tvs`).
+    pub const TVS: u32 = 2048;
 }
 
 /// Excitation kinds in [`GpuPhase::exc_kind`].
@@ -116,6 +118,16 @@ gpu_struct! {
         /// heat (W), applied in phases whose `mixer` is set.
         pub mixer_rate_per_s: f32,
         pub mixer_heat_w: f32,
+        /// `[tvs]` (`model::tvs`): the band (Pa), the J-T flow (kg/s), the J-T outlet's
+        /// saturation temperature (K) and vapour enthalpy (J/kg), the spray pump's flow (m³/s)
+        /// and heat (W).
+        pub tvs_upper_pa: f32,
+        pub tvs_lower_pa: f32,
+        pub tvs_flow_kg_s: f32,
+        pub tvs_t_jt_k: f32,
+        pub tvs_h_vent: f32,
+        pub tvs_pump_m3_s: f32,
+        pub tvs_pump_heat_w: f32,
         pub isp_s: f32,
         pub propellant_fraction: f32,
         pub line_height_m: f32,
@@ -144,6 +156,8 @@ gpu_struct! {
         pub space: u32,
         /// The jet mixer runs in this phase (`flight::Phase::mixer`; with `[mixer]` only).
         pub mixer: u32,
+        /// The TVS may run in this phase (`flight::Phase::tvs`; with `[tvs]` only).
+        pub tvs: u32,
         pub exc_kind: u32,
         pub table_start: u32,
         pub table_len: u32,
@@ -177,6 +191,8 @@ gpu_struct! {
         pub phase: u32,
         pub step_in_phase: u32,
         pub valve_open: u32,
+        /// The thermodynamic vent system runs (`model::tvs`).
+        pub tvs_on: u32,
         pub have_k1: u32,
         pub phase_start_s: f32,
         pub steps: u32,
@@ -202,6 +218,8 @@ gpu_struct! {
         pub m_liquid_kg: f32,
         /// Relief-valve openings; pressurant exhausted and tank dry, with their times.
         pub relief_cycles: u32,
+        /// Thermodynamic-vent-system starts.
+        pub tvs_cycles: u32,
         /// |slosh angle| at the last observation, rad (a phase entered there starts with it).
         pub last_angle_rad: f32,
         /// Error-controlled stepping: the next step's proposal and the time within the phase
@@ -318,6 +336,10 @@ impl GpuParams {
         if p.mixer.is_some() {
             flags |= flag::MIXER;
         }
+        if p.tvs.is_some() {
+            flags |= flag::TVS;
+        }
+        let tvf = |g: fn(&crate::model::tvs::Tvs) -> f64| p.tvs.map_or(0.0, |t| g(&t)) as f32;
         let ins = p.insulation;
         if let Some(i) = ins {
             flags |= flag::INSULATION;
@@ -387,6 +409,13 @@ impl GpuParams {
             relief_area_m2: rlf(|x| x.flow_area_m2),
             mixer_rate_per_s: f(crate::model::mixer::exchange_rate_per_s(p)),
             mixer_heat_w: f(crate::model::mixer::pump_heat_w(p)),
+            tvs_upper_pa: tvf(|t| t.band_upper_pa),
+            tvs_lower_pa: tvf(|t| t.band_lower_pa),
+            tvs_flow_kg_s: tvf(|t| t.jt_flow_kg_s),
+            tvs_t_jt_k: tvf(|t| t.jt_temperature_k),
+            tvs_h_vent: tvf(|t| t.vent_enthalpy_j_per_kg),
+            tvs_pump_m3_s: tvf(|t| t.pump_flow_m3_s),
+            tvs_pump_heat_w: tvf(|t| t.pump_heat_w),
             isp_s: f(p.feed.isp_s),
             propellant_fraction: f(p.feed.propellant_fraction),
             line_height_m: f(p.feed.line_height_m),
@@ -515,6 +544,7 @@ impl GpuPhase {
             pressurize: u32::from(ph.pressurize),
             space: u32::from(ph.environment == crate::model::flight::Environment::Space),
             mixer: u32::from(ph.mixer),
+            tvs: u32::from(ph.tvs),
             exc_kind,
             table_start,
             table_len,

@@ -448,7 +448,7 @@ mod tests {
             let dt = phase.dt_s;
             let mut s = crate::simulate::initial_state(&c, p);
             for k in 0..4 {
-                let d = Drive::of_phase(phase, k as f64 * dt, false);
+                let d = Drive::of_phase(phase, k as f64 * dt, Default::default());
                 let sc: State<Counted> = s.map(Counted);
                 let dc = Drive::<Counted>::gather(|_| d);
                 take();
@@ -464,7 +464,7 @@ mod tests {
                 }
                 rk4_step(
                     g,
-                    |t| Drive::of_phase(phase, t, false),
+                    |t| Drive::of_phase(phase, t, Default::default()),
                     &mut s,
                     k as f64 * dt,
                     dt,

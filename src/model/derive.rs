@@ -57,11 +57,23 @@ pub struct Drive<T: Real = f64> {
     pub space: T::Mask,
     /// The jet mixer runs (used only with `[mixer]`).
     pub mixing: T::Mask,
+    /// The thermodynamic vent system runs (hysteresis state, updated between steps; used only
+    /// with `[tvs]`).
+    pub tvs_on: T::Mask,
+}
+
+/// The switched devices' states, held over a step and updated between steps: the relief valve
+/// open, the thermodynamic vent system on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Switches {
+    pub relief: bool,
+    pub tvs: bool,
 }
 
 impl Drive {
     /// The drive of `phase` at phase time `t`.
-    pub fn of_phase(phase: &flight::Phase, t: f64, valve_open: bool) -> Drive {
+    /// `sw` the switched devices' states (a TVS runs only where the phase lets it).
+    pub fn of_phase(phase: &flight::Phase, t: f64, sw: Switches) -> Drive {
         let (a_lat, a_ax_extra) = phase.excitation.eval(t);
         let burning = phase.kind == PhaseKind::Burn;
         Drive {
@@ -73,9 +85,10 @@ impl Drive {
             a_lat,
             a_ax_extra,
             pressurize: phase.pressurize,
-            valve_open,
+            valve_open: sw.relief,
             space: phase.environment == flight::Environment::Space,
             mixing: phase.mixer,
+            tvs_on: sw.tvs && phase.tvs,
         }
     }
 }
@@ -99,6 +112,7 @@ impl<T: Real> Drive<T> {
             valve_open: T::Mask::from_fn(|i| d[i].valve_open),
             space: T::Mask::from_fn(|i| d[i].space),
             mixing: T::Mask::from_fn(|i| d[i].mixing),
+            tvs_on: T::Mask::from_fn(|i| d[i].tvs_on),
         }
     }
 
@@ -116,6 +130,7 @@ impl<T: Real> Drive<T> {
             valve_open: self.valve_open.lane(i),
             space: self.space.lane(i),
             mixing: self.mixing.lane(i),
+            tvs_on: self.tvs_on.lane(i),
         }
     }
 }

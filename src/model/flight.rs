@@ -297,6 +297,9 @@ pub struct Phase {
     pub environment: Environment,
     /// Whether the jet mixer runs in this phase (used only with `[mixer]`; default on).
     pub mixer: bool,
+    /// Whether the thermodynamic vent system may run in this phase (used only with `[tvs]`;
+    /// default on).
+    pub tvs: bool,
 }
 
 impl Phase {

@@ -184,17 +184,24 @@ pub fn rhs<T: Real>(
     // Autogenous pressurant is propellant: it joins M_B (the equilibrium decides its phase).
     let press_v = b.press_kg_s * boundary::pressurant_vapor_share::<T>(g);
 
-    ds[M_B] = press_v - b.out_kg_s - b.vent_kg_s * b.y_vapor;
+    // The thermodynamic vent system draws liquid that leaves at h_g(T_jt) (`model::tvs`).
+    let tvs = super::tvs::lanes(g, d);
+    let h_tvs = tvs.leaving_enthalpy(t, h_l);
+    ds[M_B] = press_v - b.out_kg_s - b.vent_kg_s * b.y_vapor - tvs.vent_kg_s;
     ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * b.y_vapor.rsub(1.0);
-    // The jet mixer: one well-mixed fluid has no stratification to destroy, so only its pump
-    // heat acts (`model::mixer`).
-    let (_, q_pump) = super::mixer::lanes(g, d);
-    ds[H_B] = q_wl + q_wu + b.press_kg_s * h_press - b.vent_kg_s * h_u - b.out_kg_s * h_l + q_pump;
+    // The jet mixer and the TVS's spray: one well-mixed fluid has no stratification to
+    // destroy, so only their pump heat acts (`model::mixer`).
+    let (_, q_mixer) = super::mixer::lanes(g, d);
+    let q_pump = q_mixer + tvs.pump_heat_w;
+    ds[H_B] = q_wl + q_wu + b.press_kg_s * h_press - b.vent_kg_s * h_u - b.out_kg_s * h_l + q_pump
+        - tvs.vent_kg_s * h_tvs;
     ds[E_PUMP] = q_pump;
     boundary::motion_rates(g, s, d, x, ds);
 
     // Level motion for the wall hand-over (vapour share neglected).
     boundary::wall_rates(g, &g.tank(), x, &env, q_wl, q_wu, ds[M_B] / rho, ds);
     boundary::boundary_ledger(&b, h_press, h_u, b.out_kg_s * h_l, ds);
+    ds[VENT_TVS] = tvs.vent_kg_s;
+    ds[E_VENT] += tvs.vent_kg_s * h_tvs;
     b
 }

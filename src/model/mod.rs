@@ -17,6 +17,7 @@ pub mod slosh;
 pub mod slosh_table;
 pub mod state;
 pub mod thermal;
+pub mod tvs;
 
 use crate::geometry::TankLanes;
 use crate::lanes::{Mask, Real};

@@ -283,18 +283,28 @@ pub fn rhs<T: Real>(
     let mixing: T = g.get(|p| p.coupling.mixing);
     // The jet mixer (`model::mixer`): equal masses both ways at ṁ_jet = (m_s m_b / (m_s + m_b))
     // / τ, so that ṁ_jet (1/m_s + 1/m_b) = 1/τ; its pump heat enters the liquid.
-    let (jet_per_s, q_pump) = super::mixer::lanes(g, d);
+    let (jet_per_s, q_mixer) = super::mixer::lanes(g, d);
     let m_b = s[M_B].max_c(0.0);
     let m_jet = jet_per_s * s[M_S] * m_b / (s[M_S] + m_b).max_c(1.0e-9) * bulk_left;
-    let m_mix = mixing * s[M_S] * speed * bulk_left + m_jet;
+    // The thermodynamic vent system (`model::tvs`): the spray returns the layer's share of the
+    // recirculated liquid, ρ_b Q m_s / (m_s + m_b), exchanged with equal bulk mass.
+    let tvs = super::tvs::lanes(g, d);
+    let m_spray = tvs.pump_flow_m3_s * bulk.rho * s[M_S] / (s[M_S] + m_b).max_c(1.0e-9) * bulk_left;
+    let m_mix = mixing * s[M_S] * speed * bulk_left + m_jet + m_spray;
+    let q_pump = q_mixer + tvs.pump_heat_w;
 
     let b = boundary::boundary_flows(g, s, d, x);
     // Gas-side mass-transfer coefficient by the heat/mass analogy (Le ≈ 1): h_m = h / (ρ c_p).
     let h_mass_m_s = h_us / (gas.rho * gas.cp);
     let h_fg = f.h_fg_j_per_kg(t_s);
     let (k_evap, dp) = evaporation_driving(g, s, x, h_mass_m_s);
-    // Engine draws from the bulk, then from the layer once the bulk is gone.
+    // Engine draws from the bulk, then from the layer once the bulk is gone; so does the TVS,
+    // whose flow leaves at h_g(T_jt) where its node is warmer than T_jt.
     let (out_b, out_s) = (b.out_kg_s * bulk_left, b.out_kg_s * bulk_left.rsub(1.0));
+    let (tvs_b, tvs_s) = (
+        tvs.vent_kg_s * bulk_left,
+        tvs.vent_kg_s * bulk_left.rsub(1.0),
+    );
 
     let (h_ls, h_lb) = (layer.h, bulk.h);
     let h_vap_gas = u_vap + vapor.z * rv * t_u;
@@ -307,11 +317,15 @@ pub fn rhs<T: Real>(
 
     // Slots evaporation does not move.
     ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * y.rsub(1.0);
-    ds[M_B] = -m_strat - out_b;
+    ds[M_B] = -m_strat - out_b - tvs_b;
     let mix_w = m_mix * (h_ls - h_lb);
     // The pump heat goes with the bulk, into the layer once the bulk has merged into it.
     let (q_pump_b, q_pump_s) = (q_pump * bulk_left, q_pump * bulk_left.rsub(1.0));
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b;
+    let (h_tvs_b, h_tvs_s) = (
+        tvs.leaving_enthalpy(bulk.t, h_lb),
+        tvs.leaving_enthalpy(layer.t, h_ls),
+    );
+    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b - tvs_b * h_tvs_b;
     let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], &bulk);
     ds[H_B] = dh_b;
     let force = boundary::motion_rates(g, s, d, x, ds);
@@ -326,8 +340,9 @@ pub fn rhs<T: Real>(
         // enthalpy.
         let e_evap = m.max_c(0.0) * (h_ls + h_fg) + m.min_c(0.0) * h_vap_gas;
         let dm_v = m + press_v - b.vent_kg_s * y;
-        let dm_s = -m + m_strat - out_s;
-        let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls + q_pump_s;
+        let dm_s = -m + m_strat - out_s - tvs_s;
+        let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls + q_pump_s
+            - tvs_s * h_tvs_s;
         let (dh_s, dv_s) = liquid_node_rates(pu, f_s, dm_s, &layer);
         let du_u = q_wu - q_us + e_evap + b.press_kg_s * h_press - b.vent_kg_s * h_u
             + pu * (dv_s + dv_b)
@@ -360,6 +375,8 @@ pub fn rhs<T: Real>(
     boundary::boundary_ledger(&b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
     ds[E_WORK] = -pu * dv_slosh;
     ds[E_PUMP] = q_pump;
+    ds[VENT_TVS] = tvs.vent_kg_s;
+    ds[E_VENT] += tvs_b * h_tvs_b + tvs_s * h_tvs_s;
 
     Fluxes {
         evap_kg_s: m_evap,

@@ -272,6 +272,8 @@ pub struct Params {
     pub relief: Option<Relief>,
     /// The jet mixer of `[mixer]`, if any (`model::mixer`).
     pub mixer: Option<super::mixer::Mixer>,
+    /// The thermodynamic vent system of `[tvs]`, if any (`model::tvs`).
+    pub tvs: Option<super::tvs::Tvs>,
     pub feed: Feed,
     pub vehicle: Vehicle,
 }
@@ -305,6 +307,7 @@ impl Params {
             && self.pressurization.is_some() == other.pressurization.is_some()
             && self.relief.is_some() == other.relief.is_some()
             && self.mixer.is_some() == other.mixer.is_some()
+            && self.tvs.is_some() == other.tvs.is_some()
             && self.insulation.map(|i| (i.foam.is_some(), i.mli.is_some()))
                 == other
                     .insulation

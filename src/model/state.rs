@@ -54,16 +54,20 @@ pub const PRESS_IN: usize = 19;
 pub const E_ENV: usize = 20;
 /// ∫ ṁ_press h_He dt, J.
 pub const E_PRESS: usize = 21;
-/// ∫ ṁ_vent h_u dt, J.
+/// Energy carried out by the vents, J: ∫ ṁ_vent h_u dt through the relief valve plus
+/// ∫ ṁ_tvs h_out dt through the thermodynamic vent system (`model::tvs`).
 pub const E_VENT: usize = 22;
 /// ∫ ṁ_out h_l dt, J.
 pub const E_OUT: usize = 23;
 /// ∫ −P dΔV_slosh dt, J (work of the paper's coupling-I volume term; 0 when c_V = 0).
 pub const E_WORK: usize = 24;
-/// ∫ Q_pump dt, J: the jet mixer's pump heat dissipated in the liquid (`model::mixer`).
+/// ∫ Q_pump dt, J: the pump heat of the jet mixer (`model::mixer`) and of the thermodynamic
+/// vent system's recirculation pump (`model::tvs`) dissipated in the liquid.
 pub const E_PUMP: usize = 25;
+/// Propellant vented by the thermodynamic vent system, kg (`model::tvs`).
+pub const VENT_TVS: usize = 26;
 /// Number of state slots.
-pub const NS: usize = 26;
+pub const NS: usize = 27;
 
 /// A state vector (one per lane group: slot by slot, each slot a lane vector).
 pub type State<T = f64> = [T; NS];
@@ -228,7 +232,7 @@ pub fn vapor_pressurant_kg(p: &Params, s: &State) -> f64 {
 /// Total propellant + helium mass in the tank plus everything that left or entered, kg:
 /// constant to rounding (MODEL.md §10).
 pub fn mass_invariant(s: &State) -> f64 {
-    s[M_V] + s[M_G] + s[M_S] + s[M_B] + s[VENT_V] + s[VENT_G] + s[OUT] - s[PRESS_IN]
+    s[M_V] + s[M_G] + s[M_S] + s[M_B] + s[VENT_V] + s[VENT_G] + s[OUT] + s[VENT_TVS] - s[PRESS_IN]
 }
 
 /// Internal energy of fluid and wall minus the net energy brought in across the boundary, J:

@@ -20,7 +20,7 @@ pub type Qoi = (&'static str, fn(&Summary) -> f64);
 /// f64 quantities of interest per instance, with how to read them from a [`Summary`]. Missing
 /// values (no engine draw: no cavitation margin; every QoI of a rejected or diverged instance but
 /// `final_time_s`) are NaN here and Arrow nulls in the file.
-pub const QOI_F64: [Qoi; 21] = [
+pub const QOI_F64: [Qoi; 22] = [
     ("peak_pressure_pa", |q| q.peak_pressure_pa),
     ("peak_pressure_time_s", |q| q.peak_pressure_time_s),
     ("min_pressure_pa", |q| q.min_pressure_pa),
@@ -29,6 +29,7 @@ pub const QOI_F64: [Qoi; 21] = [
     ("vented_kg", |q| q.vented_kg),
     ("vented_vapor_kg", |q| q.vented_vapor_kg),
     ("vented_helium_kg", |q| q.vented_helium_kg),
+    ("tvs_vented_kg", |q| q.tvs_vented_kg),
     ("pressurant_used_kg", |q| q.pressurant_used_kg),
     ("propellant_drawn_kg", |q| q.propellant_drawn_kg),
     ("min_cavitation_margin_m", |q| {
@@ -91,10 +92,12 @@ pub fn qoi_names(phases: &[String]) -> Vec<String> {
 /// A count column: its name and how to read it from a [`Summary`].
 pub type Count = (&'static str, fn(&Summary) -> u64);
 
-/// Counts per instance after `instance`: accepted steps and relief-valve openings.
-pub const COUNTS: [Count; 2] = [
+/// Counts per instance after `instance`: accepted steps, relief-valve openings and
+/// thermodynamic-vent-system starts.
+pub const COUNTS: [Count; 3] = [
     ("steps", |q| q.steps),
     ("relief_cycles", |q| q.relief_cycles),
+    ("tvs_cycles", |q| q.tvs_cycles),
 ];
 
 /// Boolean flags per instance: outcomes (cavitation, overpressure, the pressurant running out,
@@ -149,7 +152,10 @@ pub fn unmodelled(fidelity: Fidelity) -> &'static [&'static str] {
 /// the QoI values of [`qoi_names`] (NaN = null), the [`COUNTS`] and the [`FLAGS`]. A rejected
 /// or diverged instance has no QoIs, except the time it reached, and its outcome flags are
 /// null; what the fidelity does not model ([`unmodelled`]) is null in every row.
-pub fn row_values(r: &InstanceRecord, shape: RowShape) -> (Vec<f64>, [u64; 2], [Option<bool>; 7]) {
+pub fn row_values(
+    r: &InstanceRecord,
+    shape: RowShape,
+) -> (Vec<f64>, [u64; COUNTS.len()], [Option<bool>; 7]) {
     let q = &r.summary;
     let invalid = r.rejected || q.diverged;
     let missing = unmodelled(shape.fidelity);
@@ -173,7 +179,7 @@ pub fn row_values(r: &InstanceRecord, shape: RowShape) -> (Vec<f64>, [u64; 2], [
             }
         }));
     }
-    let counts = [COUNTS[0].1(q), COUNTS[1].1(q)];
+    let counts = COUNTS.map(|(_, get)| get(q));
     let outcome = |v: bool| (!invalid).then_some(v);
     let flags = [
         outcome(q.cavitation),

@@ -12,7 +12,7 @@
 use super::events::EventKind;
 use super::{row, History, LaneRun};
 use crate::lanes::{Mask, Real};
-use crate::model::derive::{self, Drive};
+use crate::model::derive::{self, Derived, Drive};
 use crate::model::dopri::{self, Dense, Tolerance};
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::{self, *};
@@ -38,7 +38,7 @@ pub fn reference_scales(p: &Params, s0: &State) -> State {
         _ => 1.0,
     };
     let mut r = [energy; NS];
-    for i in [M_V, M_G, M_S, M_B, VENT_V, VENT_G, OUT, PRESS_IN] {
+    for i in [M_V, M_G, M_S, M_B, VENT_V, VENT_G, OUT, PRESS_IN, VENT_TVS] {
         r[i] = mass;
     }
     for i in [Q1, Q1D, Q2, Q2D] {
@@ -48,6 +48,13 @@ pub fn reference_scales(p: &Params, s0: &State) -> State {
     r[ALT] = 1.0;
     r[P_FILT] = s0[P_FILT].abs().max(1.0e3);
     r
+}
+
+/// Which switched device cut a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Switched {
+    Relief,
+    Tvs,
 }
 
 /// Where a step was cut short.
@@ -156,8 +163,11 @@ impl LaneRun<'_> {
         let dense = Dense::new(y0, y1, k, h);
         let t0 = self.t_phase;
         let ev0 = self.last;
-        // Valve switch: the first of mid-step and end where the switching function is ≥ 0.
-        let switch = |x: &crate::model::derive::Derived, open: bool| -> f64 {
+        // Switches: the relief valve's and the TVS's switching functions, each located at the
+        // first of mid-step and end where it is ≥ 0; the step is cut at the earlier one.
+        let open = self.valve;
+        let tvs_on = self.tvs;
+        let relief_g = |x: &Derived| -> f64 {
             let r = p.relief.expect("a valve switch needs a relief valve");
             if open {
                 r.reseat_pa - x.p_ullage_pa
@@ -165,31 +175,26 @@ impl LaneRun<'_> {
                 x.p_ullage_pa - r.crack_pa
             }
         };
-        let open = self.valve;
-        let mut cut = None;
+        let tvs_g = |x: &Derived| model::tvs::switching(p, tvs_on, x.p_ullage_pa);
+        let mut cut: Option<(f64, Switched)> = None;
         if p.relief.is_some() {
-            let g0 = switch(&ev0.derived, open);
-            for (theta_hi, x) in [(0.5, &mid.derived), (1.0, &ev1.derived)] {
-                let g = switch(x, open);
-                if g >= 0.0 {
-                    let lo = if theta_hi == 1.0 { 0.5 } else { 0.0 };
-                    let g_lo = if theta_hi == 1.0 {
-                        switch(&mid.derived, open)
-                    } else {
-                        g0
-                    };
-                    cut = Some(
-                        self.locate(&dense, (t0, h), (lo, g_lo), (theta_hi, g), |_, x| {
-                            switch(x, open)
-                        }),
-                    );
-                    break;
+            cut = self
+                .find_switch(&dense, (t0, h), [&ev0, mid, ev1], relief_g)
+                .map(|th| (th, Switched::Relief));
+        }
+        if p.tvs.is_some() && self.phase().tvs {
+            if let Some(th) = self.find_switch(&dense, (t0, h), [&ev0, mid, ev1], tvs_g) {
+                if cut.is_none_or(|(first, _)| th < first) {
+                    cut = Some((th, Switched::Tvs));
                 }
             }
         }
         let (theta_end, mut s_end, mut ev_end, d_end) = match cut {
-            Some(theta) => {
-                self.valve = !open;
+            Some((theta, which)) => {
+                match which {
+                    Switched::Relief => self.valve = !open,
+                    Switched::Tvs => self.tvs = !tvs_on,
+                }
                 let s = dense.at(theta);
                 let (ev, d) = self.eval_at(&s, t0 + theta * h, h);
                 (theta, s, ev, d)
@@ -219,14 +224,26 @@ impl LaneRun<'_> {
             self.t_phase = t_end;
             return;
         }
-        if cut.is_some() {
-            self.tracker.summary.relief_cycles += u64::from(!open);
-            let kind = if open {
-                EventKind::ReliefClose
-            } else {
-                EventKind::ReliefOpen
-            };
-            self.record(mission, kind, ev_end.derived.p_ullage_pa, f64::NAN);
+        match cut {
+            Some((_, Switched::Relief)) => {
+                self.tracker.summary.relief_cycles += u64::from(!open);
+                let kind = if open {
+                    EventKind::ReliefClose
+                } else {
+                    EventKind::ReliefOpen
+                };
+                self.record(mission, kind, ev_end.derived.p_ullage_pa, f64::NAN);
+            }
+            Some((_, Switched::Tvs)) => {
+                self.tracker.summary.tvs_cycles += u64::from(!tvs_on);
+                let kind = if tvs_on {
+                    EventKind::TvsOff
+                } else {
+                    EventKind::TvsOn
+                };
+                self.record(mission, kind, ev_end.derived.p_ullage_pa, f64::NAN);
+            }
+            None => {}
         }
         if let Some(reason) = bad {
             self.diverge(&reason, mission, Some(s_end));
@@ -405,6 +422,30 @@ impl LaneRun<'_> {
     /// The step fraction in [lo.0, hi.0] where `g` (of the derived state on the dense output)
     /// crosses zero, g(lo) < 0 ≤ g(hi): Illinois regula falsi to 1e-10 of the step. Returns
     /// the end of the last bracket where g ≥ 0, so the switch has happened there.
+    /// Where switching function `g` of the step reaches 0: it is negative at the step start
+    /// (`evs[0]`) and checked at mid-step (`evs[1]`) and the end (`evs[2]`); the first of those
+    /// where it is ≥ 0 brackets the root, located on the dense output. None: no switch.
+    fn find_switch(
+        &mut self,
+        dense: &Dense,
+        (t0, h): (f64, f64),
+        evs: [&Evaluation; 3],
+        g: impl Fn(&Derived) -> f64,
+    ) -> Option<f64> {
+        let g0 = g(&evs[0].derived);
+        let gm = g(&evs[1].derived);
+        let (lo, hi) = if gm >= 0.0 {
+            ((0.0, g0), (0.5, gm))
+        } else {
+            let g1 = g(&evs[2].derived);
+            if g1 < 0.0 {
+                return None;
+            }
+            ((0.5, gm), (1.0, g1))
+        };
+        Some(self.locate(dense, (t0, h), lo, hi, |_, x| g(x)))
+    }
+
     fn locate(
         &mut self,
         dense: &Dense,

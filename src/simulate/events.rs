@@ -1,5 +1,6 @@
 //! Discrete events of one instance, located in time (issue 11): relief-valve openings and
-//! closings, the pressurant bottle running out, the bulk node merging into the layer, the tank
+//! closings, thermodynamic-vent-system starts and stops, the pressurant bottle running out,
+//! the bulk node merging into the layer, the tank
 //! running dry, cavitation onset and end, phase ends. Recorded when the campaign asks
 //! ([`crate::campaign::Campaign::record_events`], set by `run --events` and `simulate`), written
 //! to `events.parquet` and printed by `simulate`.
@@ -11,6 +12,12 @@ pub enum EventKind {
     ReliefOpen,
     /// The relief valve reseated.
     ReliefClose,
+    /// The thermodynamic vent system started (the pressure reached its band's upper end, or a
+    /// phase that lets it run began above it).
+    TvsOn,
+    /// The thermodynamic vent system stopped (the band's lower end, or a phase that switches
+    /// it off).
+    TvsOff,
     /// The pressurant bottle reached its last `PRESSURANT_EMPTY_FRACTION`.
     PressurantExhausted,
     /// The bulk node emptied into the warm layer (`model::merge_empty_bulk`).
@@ -33,6 +40,8 @@ impl EventKind {
         match self {
             EventKind::ReliefOpen => "relief_open",
             EventKind::ReliefClose => "relief_close",
+            EventKind::TvsOn => "tvs_on",
+            EventKind::TvsOff => "tvs_off",
             EventKind::PressurantExhausted => "pressurant_exhausted",
             EventKind::BulkMerged => "bulk_merged",
             EventKind::Depleted => "depleted",

@@ -17,7 +17,7 @@ pub use qoi::{
 
 use crate::campaign::{Campaign, Integrator};
 use crate::lanes::{Lanes, Mask, Real};
-use crate::model::derive::{slosh_angle, Derived, Drive};
+use crate::model::derive::{self, slosh_angle, Derived, Drive, Switches};
 use crate::model::flight::{Phase, G0};
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::{self, *};
@@ -34,7 +34,7 @@ fn crossing(a: f64, b: f64, level: f64) -> f64 {
 }
 
 /// Names of the f64 time-history columns, in order (DESIGN.md "time history").
-pub const HISTORY_COLUMNS: [&str; 34] = [
+pub const HISTORY_COLUMNS: [&str; 35] = [
     "time_s",
     "pressure_pa",
     "vapor_pressure_pa",
@@ -69,6 +69,7 @@ pub const HISTORY_COLUMNS: [&str; 34] = [
     "axial_accel_m_s2",
     "lateral_accel_m_s2",
     "heat_leak_w",
+    "tvs_vented_kg",
 ];
 
 /// A sampled time history, column-major.
@@ -204,7 +205,7 @@ pub fn initial_state(c: &Campaign, p: &Params) -> State {
         Fidelity::Homogeneous => {}
         Fidelity::Lumped => s[Q1] = th,
         Fidelity::TwoMode => {
-            let d = Drive::of_phase(&c.phases[0], 0.0, false);
+            let d = Drive::of_phase(&c.phases[0], 0.0, Default::default());
             let x = model::derive::derive(Group::one(p), &s, &d);
             s[Q1] = x.slosh.length_m[0] * th.tan();
         }
@@ -265,6 +266,7 @@ fn row(p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) -> [f64; HISTO
         x.a_ax,
         d.a_lat,
         crate::model::insulation::wall_heat(Group::one(p), d, x).total_w,
+        s[VENT_TVS],
     ]
 }
 
@@ -282,7 +284,9 @@ struct LaneRun<'a> {
     t: f64,
     steps: u64,
     valve: bool,
-    /// The group's post-step derivative may serve as this lane's next k1 (valve unchanged,
+    /// The thermodynamic vent system runs (`model::tvs`).
+    tvs: bool,
+    /// The group's post-step derivative may serve as this lane's next k1 (switches unchanged,
     /// phase going on): RK4 would evaluate exactly the same one.
     reuse: bool,
     done: bool,
@@ -321,12 +325,29 @@ impl<'a> LaneRun<'a> {
     /// The instance at t = 0, observed once.
     fn start(c: &'a Campaign, p: &'a Params) -> LaneRun<'a> {
         let s0 = initial_state(c, p);
-        let d0 = Drive::of_phase(&c.phases[0], 0.0, false);
+        // A TVS whose band the initial pressure already reaches runs from the start.
+        let p0 = derive::derive(
+            Group::one(p),
+            &s0,
+            &Drive::of_phase(&c.phases[0], 0.0, Default::default()),
+        )
+        .p_ullage_pa;
+        let tvs0 = model::tvs::update::<f64>(Group::one(p), p0, false, c.phases[0].tvs);
+        let switches = Switches {
+            relief: false,
+            tvs: tvs0,
+        };
+        let d0 = Drive::of_phase(&c.phases[0], 0.0, switches);
         let ev0 = model::evaluate(Group::one(p), &s0, &d0, c.phases[0].dt_s);
         let mut tracker = Tracker::new(initial_vapor_mass(p, &s0));
         tracker.enter_phase(&c.phases[0].name, p, &s0, &ev0);
         tracker.observe(p, 0.0, &s0, &ev0, &d0);
         let (n, dt) = c.phases[0].steps();
+        tracker.summary.tvs_cycles = u64::from(tvs0);
+        let mut events = c.record_events.then(EventLog::default);
+        if let (true, Some(log)) = (tvs0, events.as_mut()) {
+            log.push(0.0, 0, EventKind::TvsOn, p0, f64::NAN);
+        }
         LaneRun {
             campaign: c,
             params: p,
@@ -338,6 +359,7 @@ impl<'a> LaneRun<'a> {
             t: 0.0,
             steps: 0,
             valve: false,
+            tvs: tvs0,
             reuse: false,
             done: false,
             tracker,
@@ -356,7 +378,7 @@ impl<'a> LaneRun<'a> {
             m_liquid0: ev0.derived.m_liquid_kg,
             merged: false,
             slosh_out_s: 0.0,
-            events: c.record_events.then(EventLog::default),
+            events,
             margin_prev: d0
                 .burning
                 .then(|| cavitation_margin(p, &s0, &ev0.derived).0),
@@ -369,7 +391,35 @@ impl<'a> LaneRun<'a> {
 
     /// The trajectory of this lane at time `t` of its current phase.
     fn drive(&self, t: f64) -> Drive {
-        Drive::of_phase(self.phase(), t, self.valve)
+        Drive::of_phase(self.phase(), t, self.switches())
+    }
+
+    /// The switched devices' states now.
+    fn switches(&self) -> Switches {
+        Switches {
+            relief: self.valve,
+            tvs: self.tvs,
+        }
+    }
+
+    /// Update the TVS's hysteresis at mission time `t` and ullage pressure `pressure_pa` under
+    /// the current phase's switch, counting a start and recording the event.
+    fn switch_tvs(&mut self, t: f64, pressure_pa: f64) {
+        let p = self.params;
+        if p.tvs.is_none() {
+            return;
+        }
+        let before = self.tvs;
+        self.tvs = model::tvs::update::<f64>(Group::one(p), pressure_pa, before, self.phase().tvs);
+        if self.tvs != before {
+            self.tracker.summary.tvs_cycles += u64::from(self.tvs);
+            let kind = if self.tvs {
+                EventKind::TvsOn
+            } else {
+                EventKind::TvsOff
+            };
+            self.record(t, kind, pressure_pa, f64::NAN);
+        }
     }
 
     /// The instance diverged at mission time `t` for `reason`; `state` is the one that failed the
@@ -589,8 +639,10 @@ impl<'a> LaneRun<'a> {
             };
             self.record(t, kind, pressure, f64::NAN);
         }
+        let tvs_before = self.tvs;
+        self.switch_tvs(t, pressure);
         let phase_end = self.k + 1 == self.n;
-        self.reuse = self.valve == before && !phase_end && !self.merged;
+        self.reuse = self.valve == before && self.tvs == tvs_before && !phase_end && !self.merged;
         if let Some(h) = history {
             let interval = self.campaign.output_interval_s;
             if t >= self.next_sample - 1.0e-9 * interval || phase_end {
@@ -626,6 +678,8 @@ impl<'a> LaneRun<'a> {
         self.phase += 1;
         let name = &self.campaign.phases[self.phase].name;
         self.tracker.enter_phase(name, self.params, s, &self.last);
+        // The new phase may switch the TVS off, or let it start above its band.
+        self.switch_tvs(self.t, pressure);
     }
 
     fn finish(mut self) -> Summary {

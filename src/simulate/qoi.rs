@@ -37,6 +37,10 @@ pub struct Summary {
     pub diverged: bool,
     /// Relief-valve openings (closed → open switches).
     pub relief_cycles: u64,
+    /// Propellant the thermodynamic vent system vented, kg (0 without `[tvs]`).
+    pub tvs_vented_kg: f64,
+    /// Thermodynamic-vent-system starts (off → on switches).
+    pub tvs_cycles: u64,
     /// The pressurant bottle reached its last [`PRESSURANT_EMPTY_FRACTION`], and when, s.
     pub pressurant_exhausted: bool,
     pub pressurant_exhausted_time_s: Option<f64>,
@@ -281,6 +285,7 @@ pub fn finish_summary(
     q.final_time_s = t;
     q.steps = steps;
     q.vented_vapor_kg = s[VENT_V];
+    q.tvs_vented_kg = s[VENT_TVS];
     q.vented_helium_kg = s[VENT_G];
     q.vented_kg = s[VENT_V] + s[VENT_G];
     q.pressurant_used_kg = s[PRESS_IN];
@@ -375,6 +380,12 @@ fn outcomes_text(q: &Summary) -> String {
     let mut o = String::new();
     if q.relief_cycles > 0 {
         o += &format!("\nrelief valve opened {} times", q.relief_cycles);
+    }
+    if q.tvs_cycles > 0 || q.tvs_vented_kg > 0.0 {
+        o += &format!(
+            "\nthermodynamic vent system started {} times, vented {:.4} kg",
+            q.tvs_cycles, q.tvs_vented_kg
+        );
     }
     if q.slosh_out_of_range {
         o += &format!(

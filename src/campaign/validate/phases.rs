@@ -139,6 +139,7 @@ pub(super) fn phase(
         pressurize: ph.pressurize.unwrap_or(true),
         environment,
         mixer: ph.mixer.unwrap_or(true),
+        tvs: ph.tvs.unwrap_or(true),
     })
 }
 
