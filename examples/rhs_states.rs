@@ -222,6 +222,10 @@ fn param_columns(p: &Params) -> Vec<(&'static str, f64)> {
             opt(ps.map(|q| q.gas_temperature_k)),
         ),
         ("press_bottle_kg", opt(ps.map(|q| q.bottle_mass_kg))),
+        (
+            "press_schedule_ref_m3",
+            opt(ps.map(|q| q.gain_schedule.reference_or_zero_m3())),
+        ),
         ("has_relief", f64::from(u8::from(rl.is_some()))),
         ("relief_flow_area_m2", opt(rl.map(|q| q.flow_area_m2))),
         (

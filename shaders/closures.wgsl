@@ -110,7 +110,10 @@ fn boundary_flows(s: ptr<function, St>, d: Drive, x: Derived) -> Bnd {
     if ((P.flags & FLAG_PRESSURIZATION) != 0u && d.pressurize) {
         let e = P.press_setpoint_pa - x.p_u;
         let e_dot = -(x.p_u - (*s)[P_FILT]) / P.press_filter_s;
-        let demand = clamp(P.press_kp * e + P.press_kd * e_dot, 0.0, P.press_max_flow);
+        // Gain schedule: both gains times V_u / V_ref where V_ref > 0, else fixed.
+        let v_ref = P.press_schedule_ref_m3;
+        let gain = select(1.0, x.v_u / v_ref, v_ref > 0.0);
+        let demand = clamp((P.press_kp * e + P.press_kd * e_dot) * gain, 0.0, P.press_max_flow);
         let left = P.press_bottle_kg - (*s)[PRESS_IN];
         let fade = clamp(left / (1.0e-3 * P.press_bottle_kg + 1.0e-9), 0.0, 1.0);
         b.press = demand * fade;

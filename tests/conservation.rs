@@ -59,6 +59,25 @@ fn slosh_volume_coupling_work_is_accounted() {
     );
 }
 
+/// The gain-scheduled regulator (`pressurization.gain_schedule`) on every level, through a burn
+/// whose ullage grows: the pressurant it admits is in the ledgers like the fixed regulator's.
+#[test]
+fn scheduled_regulator_closes_mass_and_energy_on_every_level() {
+    for level in LEVELS {
+        let fid = format!("campaign.fidelity={level}");
+        let c = load(
+            "lox_ascent",
+            &[&fid, "pressurization.gain_schedule=ullage_volume"],
+        );
+        let q = simulate(&c, &c.params, None);
+        assert!(!q.diverged, "{level}: {:?}", q.diverged_reason);
+        assert!(
+            q.mass_error_rel < 1e-9 && q.energy_error_rel < 1e-6,
+            "{level}: {q:?}"
+        );
+    }
+}
+
 /// The jet mixer (`[mixer]`) on every level, off in the coast: its pump heat is in the energy
 /// ledger (`E_PUMP`) exactly as the power times the phases it runs in, and the closure holds
 /// with it (integrated here step by step from the initial state, and through `simulate`).

@@ -495,43 +495,91 @@ fn gpu_matches_cpu_with_a_thermodynamic_vent_system() {
         .map(|&level| ("dopri5", level, 24))
         .chain([("rk4", "lumped", 8)]);
     for (integrator, level, n) in cases {
-        {
-            let sets = [
-                format!("campaign.fidelity={level}"),
-                format!("campaign.integrator={integrator}"),
-                "phases.0.dt_s=20".to_string(),
-            ];
-            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-            let c = load("lh2_tvs_coast", &sets);
-            let plan = Plan {
-                campaign: &c,
-                seed: c.seed,
-                total: n,
-            };
-            let (a, b) = (
-                cpu.run_block(&plan, 0..n).unwrap(),
-                gpu.run_block(&plan, 0..n).unwrap(),
-            );
-            let name = format!("lh2_tvs_coast/{integrator}");
-            compare(&name, level, &a, &b);
-            let vented = a
-                .iter()
-                .zip(&b)
-                .map(|(x, y)| (x.summary.tvs_vented_kg, y.summary.tvs_vented_kg, 1.0e-3))
-                .collect();
-            compare_values(&name, level, "tvs_vented_kg", vented);
-            let same = a
-                .iter()
-                .zip(&b)
-                .filter(|(x, y)| x.summary.tvs_cycles == y.summary.tvs_cycles)
-                .count();
-            let starts: u64 = a.iter().map(|x| x.summary.tvs_cycles).sum();
-            println!("{name}/{level}: starts agree on {same} of {n} ({starts} starts on the CPU)");
-            assert!(starts > 0, "{name}/{level}: the TVS never started");
-            assert!(
-                same + 1 >= n as usize,
-                "{name}/{level}: starts agree on {same} of {n}"
-            );
+        let sets = [
+            format!("campaign.fidelity={level}"),
+            format!("campaign.integrator={integrator}"),
+            "phases.0.dt_s=20".to_string(),
+        ];
+        let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+        let c = load("lh2_tvs_coast", &sets);
+        let plan = Plan {
+            campaign: &c,
+            seed: c.seed,
+            total: n,
+        };
+        let (a, b) = (
+            cpu.run_block(&plan, 0..n).unwrap(),
+            gpu.run_block(&plan, 0..n).unwrap(),
+        );
+        let name = format!("lh2_tvs_coast/{integrator}");
+        compare(&name, level, &a, &b);
+        let vented = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x.summary.tvs_vented_kg, y.summary.tvs_vented_kg, 1.0e-3))
+            .collect();
+        compare_values(&name, level, "tvs_vented_kg", vented);
+        let same = a
+            .iter()
+            .zip(&b)
+            .filter(|(x, y)| x.summary.tvs_cycles == y.summary.tvs_cycles)
+            .count();
+        let starts: u64 = a.iter().map(|x| x.summary.tvs_cycles).sum();
+        println!("{name}/{level}: starts agree on {same} of {n} ({starts} starts on the CPU)");
+        assert!(starts > 0, "{name}/{level}: the TVS never started");
+        assert!(
+            same + 1 >= n as usize,
+            "{name}/{level}: starts agree on {same} of {n}"
+        );
+    }
+}
+
+/// The gain-scheduled regulator (issue 17, `pressurization.gain_schedule = "ullage_volume"`): the
+/// LOX ascent (its ullage grows through the burn) at every level with the default reference, and
+/// on the lumped level with a written reference, on both backends.
+#[test]
+fn gpu_matches_cpu_with_a_scheduled_regulator() {
+    let Some(gpu) = engine() else { return };
+    let cpu = CpuEngine::new(0).unwrap();
+    let n = 24;
+    let sched = "pressurization.gain_schedule=ullage_volume";
+    let reference = "pressurization.schedule_reference_ullage_m3=20";
+    for (level, written) in [
+        ("homogeneous", false),
+        ("lumped", false),
+        ("two_mode", false),
+        ("lumped", true),
+    ] {
+        let fidelity = format!("campaign.fidelity={level}");
+        let mut sets = vec![fidelity.as_str(), sched];
+        if written {
+            sets.push(reference);
         }
+        let c = load("lox_ascent", &sets);
+        let plan = Plan {
+            campaign: &c,
+            seed: c.seed,
+            total: n,
+        };
+        let (a, b) = (
+            cpu.run_block(&plan, 0..n).unwrap(),
+            gpu.run_block(&plan, 0..n).unwrap(),
+        );
+        let name = if written {
+            "lox_sched_ref20"
+        } else {
+            "lox_scheduled"
+        };
+        compare(name, level, &a, &b);
+        // What the regulator acts on: the helium it admitted, against 1 g.
+        let used = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| {
+                let get = |r: &InstanceRecord| r.summary.pressurant_used_kg;
+                (get(x), get(y), 1.0e-3)
+            })
+            .collect();
+        compare_values(name, level, "pressurant_used_kg", used);
     }
 }

@@ -608,7 +608,13 @@ class Model:
         if st["has_pressurization"]:
             e = p["press_setpoint_pa"] - x["p_ullage"]
             e_dot = -(x["p_ullage"] - s[P_FILT]) / p["press_filter_s"]
-            demand = xp.minimum(xp.maximum(p["press_kp"] * e + p["press_kd"] * e_dot, 0.0), p["press_max_flow"])
+            pd = p["press_kp"] * e + p["press_kd"] * e_dot
+            # Gain schedule: both gains times V_u / V_ref where V_ref > 0 (files written before
+            # the key have no column: fixed gains).
+            v_ref = p.get("press_schedule_ref_m3", 0.0 * pd)
+            on = v_ref > 0.0
+            pd = pd * xp.where(on, x["v_ullage"] / xp.where(on, v_ref, 1.0), 1.0)
+            demand = xp.minimum(xp.maximum(pd, 0.0), p["press_max_flow"])
             bottle = p["press_bottle_kg"]
             left = bottle - s[PRESS_IN]
             fade = xp.clip(left / (bottle * 1.0e-3 + 1.0e-9), 0.0, 1.0)

@@ -8,7 +8,7 @@ use super::Campaign;
 use crate::geometry::Shape;
 use crate::model::derive::{derive, Drive};
 use crate::model::flight::Excitation;
-use crate::model::params::Fidelity;
+use crate::model::params::{Fidelity, GainSchedule};
 use crate::model::state::initial_state;
 use crate::model::thermal::schrage_coefficient;
 use std::fmt::Write;
@@ -41,6 +41,23 @@ fn kv(key: &str, v: f64, unit: &str) -> String {
         format!("{key} {}", number(v))
     } else {
         format!("{key} {} {unit}", number(v))
+    }
+}
+
+/// `pressurization.gain_schedule` and, when the gains follow the ullage, the reference ullage
+/// (saying when it is the default, the initial ullage).
+fn gain_schedule(c: &Campaign, g: GainSchedule) -> String {
+    match g {
+        GainSchedule::Fixed => "fixed (k_p, k_d as written)".to_string(),
+        GainSchedule::UllageVolume { reference_m3 } => {
+            let reference = kv("schedule_reference_ullage_m3", reference_m3, "m³");
+            let default = if is_set(c, "pressurization", "schedule_reference_ullage_m3") {
+                ""
+            } else {
+                " (the initial ullage)"
+            };
+            format!("ullage_volume (k_p, k_d times V_u / {reference}{default})")
+        }
     }
 }
 
@@ -394,7 +411,7 @@ pub fn describe(c: &Campaign) -> String {
         None => writeln!(o, "pressurization: none (no pressurant)"),
         Some(ps) => writeln!(
             o,
-            "pressurization: {}, {}, {}, {}, {}, {}, {}, gas {}",
+            "pressurization: {}, {}, {}, {}, {}, {}, {}, gas {}, gain_schedule {}",
             kv("setpoint_pa", ps.setpoint_pa, "Pa"),
             kv("kp_kg_per_s_pa", ps.kp_kg_per_s_pa, "kg/(s·Pa)"),
             kv("kd_kg_per_pa", ps.kd_kg_per_pa, "kg/Pa"),
@@ -403,6 +420,7 @@ pub fn describe(c: &Campaign) -> String {
             kv("gas_temperature_k", ps.gas_temperature_k, "K"),
             kv("bottle_mass_kg", ps.bottle_mass_kg, "kg"),
             ps.gas.name(),
+            gain_schedule(c, ps.gain_schedule),
         ),
     };
     let _ = match &p.relief {

@@ -166,6 +166,36 @@ fn unused_with_insulation(c: &Campaign, doc: &toml::Table) -> Result<(), Campaig
     Ok(())
 }
 
+/// Fixed regulator gains never read a reference ullage: a dispersion of [`SCHEDULE_REFERENCE`]
+/// beside `gain_schedule = "fixed"` would fail every instance (a line or `--set` of it is
+/// refused by validation).
+fn unused_with_fixed_gains(c: &Campaign, doc: &toml::Table) -> Result<(), CampaignError> {
+    let fixed = c
+        .params
+        .pressurization
+        .is_some_and(|ps| ps.gain_schedule == crate::model::params::GainSchedule::Fixed);
+    if !fixed {
+        return Ok(());
+    }
+    for (i, input) in c.dispersions.inputs.iter().enumerate() {
+        if canonical_key(doc, &input.key) == SCHEDULE_REFERENCE {
+            return Err(CampaignError::Invalid {
+                file: c.path.clone(),
+                key: format!("dispersions.inputs.{i}.key"),
+                value: input.key.clone(),
+                allowed: format!(
+                    "a key the model uses: {SCHEDULE_REFERENCE} is read only with \
+                     pressurization.gain_schedule = \"ullage_volume\""
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The reference ullage of the regulator's gain schedule.
+pub const SCHEDULE_REFERENCE: &str = "pressurization.schedule_reference_ullage_m3";
+
 /// The key an `[insulation]` section replaces.
 pub const INSULATION_REPLACES: &str = "tank.heat_leak_w";
 
@@ -222,6 +252,7 @@ impl Campaign {
             )?;
         }
         unused_with_insulation(&c, &doc)?;
+        unused_with_fixed_gains(&c, &doc)?;
         c.statistics = statistics::validate(
             &checker,
             &raw.statistics.clone().unwrap_or_default(),

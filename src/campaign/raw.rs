@@ -127,6 +127,8 @@ pub struct RawPressurization {
     pub max_flow_kg_per_s: f64,
     pub gas_temperature_k: f64,
     pub bottle_mass_kg: f64,
+    pub gain_schedule: Option<String>,
+    pub schedule_reference_ullage_m3: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize)]

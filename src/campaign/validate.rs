@@ -394,7 +394,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
     )?;
 
     // Pressurization, relief, engine, feed, vehicle.
-    let pressurization = systems::pressurization(&c, raw, fluid)?;
+    let pressurization = systems::pressurization(&c, raw, fluid, tank.volume_m3(), fill)?;
     let relief = systems::relief(&c, raw, meop_pa)?;
     let mixer = mixer::mixer(&c, raw.mixer.as_ref(), fluid, t_liquid, tank.radius_m())?;
     let tvs = tvs::tvs(&c, raw, fluid, relief.as_ref())?;

@@ -111,6 +111,9 @@ gpu_struct! {
         pub press_max_flow: f32,
         pub press_gas_t: f32,
         pub press_bottle_kg: f32,
+        /// The gain schedule's reference ullage V_ref (m³; `GainSchedule::reference_or_zero_m3`):
+        /// both gains times V_u / V_ref where it is positive, fixed where it is 0.
+        pub press_schedule_ref_m3: f32,
         pub relief_crack_pa: f32,
         pub relief_reseat_pa: f32,
         pub relief_area_m2: f32,
@@ -404,6 +407,7 @@ impl GpuParams {
             press_max_flow: psf(|x| x.max_flow_kg_per_s),
             press_gas_t: psf(|x| x.gas_temperature_k),
             press_bottle_kg: psf(|x| x.bottle_mass_kg),
+            press_schedule_ref_m3: psf(|x| x.gain_schedule.reference_or_zero_m3()),
             relief_crack_pa: rlf(|x| x.crack_pa),
             relief_reseat_pa: rlf(|x| x.reseat_pa),
             relief_area_m2: rlf(|x| x.flow_area_m2),

@@ -59,7 +59,17 @@ pub fn boundary_flows<T: Real>(
         let (max_flow, bottle) = (ps(|q| q.max_flow_kg_per_s), ps(|q| q.bottle_mass_kg));
         let e = setpoint - x.p_ullage_pa;
         let e_dot = -(x.p_ullage_pa - s[P_FILT]) / tau;
-        let demand = (kp * e + kd * e_dot).max_c(0.0).min(max_flow);
+        // Gain schedule (`GainSchedule`): both gains times V_u / V_ref where a lane schedules
+        // them (V_ref > 0), else times 1 (exact: the fixed regulator's bits are unchanged).
+        let v_ref = ps(|q| q.gain_schedule.reference_or_zero_m3());
+        let scheduled = v_ref.gt(c(0.0));
+        let pd = kp * e + kd * e_dot;
+        let pd = if scheduled.any() {
+            pd * T::select(scheduled, x.v_ullage_m3 / v_ref, c(1.0))
+        } else {
+            pd
+        };
+        let demand = pd.max_c(0.0).min(max_flow);
         // The flow fades to zero over the last 0.1 % of the bottle instead of stopping abruptly.
         let left = bottle - s[PRESS_IN];
         let fade = (left / (bottle * 1.0e-3 + 1.0e-9)).clamp_c(0.0, 1.0);

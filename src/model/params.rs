@@ -108,6 +108,44 @@ impl PressurantGas {
     }
 }
 
+/// How the regulator's gains follow the tank state (`pressurization.gain_schedule`).
+///
+/// For the ullage gas dP/dm ≈ R T / V_u: a kilogram of pressurant raises the pressure of a small
+/// ullage more than that of a large one. With fixed gains the loop gain (R T / V_u)·k_p — the
+/// inverse of the closed-loop time constant V_u / (k_p R T) — falls as the ullage grows during a
+/// burn (sluggish, under-damped late) and is too hot at a high fill. Scaling both gains with
+/// V_u / V_ref holds the loop gain at its value for the reference ullage V_ref.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GainSchedule {
+    /// k_p and k_d as written (`"fixed"`, the default).
+    Fixed,
+    /// k_p·V_u/V_ref and k_d·V_u/V_ref with V_u the current ullage volume (`"ullage_volume"`).
+    UllageVolume {
+        /// The reference ullage volume V_ref, m³ (`schedule_reference_ullage_m3`; default the
+        /// initial ullage (1 − fill_fraction)·V_tank).
+        reference_m3: f64,
+    },
+}
+
+impl GainSchedule {
+    /// Campaign spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            GainSchedule::Fixed => "fixed",
+            GainSchedule::UllageVolume { .. } => "ullage_volume",
+        }
+    }
+
+    /// The reference ullage volume, m³, as a per-lane number: 0 selects the fixed gains (so
+    /// that instances with either schedule share a lane group).
+    pub fn reference_or_zero_m3(self) -> f64 {
+        match self {
+            GainSchedule::Fixed => 0.0,
+            GainSchedule::UllageVolume { reference_m3 } => reference_m3,
+        }
+    }
+}
+
 /// PD pressurization with a finite supply of helium or of autogenous vapour (MODEL.md §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pressurization {
@@ -127,6 +165,8 @@ pub struct Pressurization {
     pub gas_temperature_k: f64,
     /// Usable pressurant mass, kg: the helium bottle, or the autogenous gas budget.
     pub bottle_mass_kg: f64,
+    /// Whether k_p and k_d are fixed or scaled with the ullage volume.
+    pub gain_schedule: GainSchedule,
 }
 
 /// Relief valve with hysteresis, venting the ullage mixture through an orifice.

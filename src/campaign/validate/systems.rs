@@ -3,16 +3,19 @@
 //! between them (a relief valve above MEOP, a regulator set above the crack).
 
 use super::{composition, number, Checker};
-use crate::campaign::raw::RawCampaign;
+use crate::campaign::raw::{RawCampaign, RawPressurization};
 use crate::campaign::CampaignError;
 use crate::fluids::Fluid;
-use crate::model::params::{Feed, Pressurization, Relief, Vehicle};
+use crate::model::params::{Feed, GainSchedule, Pressurization, Relief, Vehicle};
 
-/// `[pressurization]`, if there is one, for propellant `fluid`.
+/// `[pressurization]`, if there is one, for propellant `fluid` in a tank of `tank_volume_m3`
+/// (m³) filled to `fill_fraction`.
 pub(super) fn pressurization(
     c: &Checker,
     raw: &RawCampaign,
     fluid: Fluid,
+    tank_volume_m3: f64,
+    fill_fraction: f64,
 ) -> Result<Option<Pressurization>, CampaignError> {
     raw.pressurization
         .as_ref()
@@ -56,11 +59,47 @@ pub(super) fn pressurization(
                     0.0,
                     1.0e5,
                 )?,
+                gain_schedule: gain_schedule(c, ps, tank_volume_m3, fill_fraction)?,
                 // Last: its check reads the setpoint and inlet temperature validated above.
                 gas: composition::pressurant_gas(c, fluid, ps)?,
             })
         })
         .transpose()
+}
+
+/// `pressurization.gain_schedule` (`"fixed"` by default, or `"ullage_volume"`) and its reference
+/// ullage `schedule_reference_ullage_m3` in (0, V_tank], by default the initial ullage
+/// (1 − fill_fraction)·V_tank; the reference is refused beside fixed gains, which never read it.
+fn gain_schedule(
+    c: &Checker,
+    ps: &RawPressurization,
+    tank_volume_m3: f64,
+    fill_fraction: f64,
+) -> Result<GainSchedule, CampaignError> {
+    const REFERENCE: &str = "pressurization.schedule_reference_ullage_m3";
+    match ps.gain_schedule.as_deref().unwrap_or("fixed") {
+        "fixed" => match ps.schedule_reference_ullage_m3 {
+            None => Ok(GainSchedule::Fixed),
+            Some(v) => Err(c.err(
+                REFERENCE,
+                number(v),
+                "no reference ullage with pressurization.gain_schedule = \"fixed\" (it scales \
+                 the gains only with \"ullage_volume\")",
+            )),
+        },
+        "ullage_volume" => {
+            let reference_m3 = match ps.schedule_reference_ullage_m3 {
+                Some(v) => c.positive(REFERENCE, v, tank_volume_m3)?,
+                None => (1.0 - fill_fraction) * tank_volume_m3,
+            };
+            Ok(GainSchedule::UllageVolume { reference_m3 })
+        }
+        other => Err(c.err(
+            "pressurization.gain_schedule",
+            other,
+            "fixed | ullage_volume",
+        )),
+    }
 }
 
 /// `[relief]`, if there is one, checked against `tank.meop_pa` = `meop_pa` (Pa) and the
