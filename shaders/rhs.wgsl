@@ -208,8 +208,8 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     (*ds)[M_B] = -m_strat - out_b - tvs_b;
     let mix_w = m_mix * (h_ls - h_lb);
     let q_pump_b = q_pump * bulk_left;
-    let h_tvs_b = select(h_lb, tv.h_vent, t_b > tv.t_jt);
-    let h_tvs_s = select(h_ls, tv.h_vent, t_s > tv.t_jt);
+    let h_tvs_b = tvs_leaving_enthalpy(tv, t_b, h_lb);
+    let h_tvs_s = tvs_leaving_enthalpy(tv, t_s, h_ls);
     let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b - tvs_b * h_tvs_b;
     let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
     (*ds)[H_B] = rb.x;
@@ -278,6 +278,14 @@ struct TvsFlows {
     h_vent: f32,
 }
 
+/// The enthalpy the J-T flow leaves with from liquid at `t` with enthalpy `h` (TvsFlows::
+/// leaving_enthalpy): h_g(T_jt) at least EXCHANGER_PINCH_K above T_jt, h at T_jt, linear
+/// between.
+fn tvs_leaving_enthalpy(tv: TvsFlows, t: f32, h: f32) -> f32 {
+    let share = clamp((t - tv.t_jt) * (1.0 / EXCHANGER_PINCH_K), 0.0, 1.0);
+    return h + share * (tv.h_vent - h);
+}
+
 fn tvs_flows(d: Drive) -> TvsFlows {
     var t: TvsFlows;
     if ((P.flags & FLAG_TVS) == 0u || !d.tvs_on) {
@@ -331,7 +339,7 @@ fn rhs_homogeneous(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<
 
     // The TVS draws liquid that leaves at h_g(T_jt) (homogeneous::rhs).
     let tv = tvs_flows(d);
-    let h_tvs = select(h_l, tv.h_vent, t > tv.t_jt);
+    let h_tvs = tvs_leaving_enthalpy(tv, t, h_l);
     (*ds)[M_B] = press_v - b.out - b.vent * b.y - tv.vent;
     (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - b.y);
     // The mixer's and the spray pump's heat only: no stratification to destroy.

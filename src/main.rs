@@ -128,8 +128,9 @@ enum Command {
         #[arg(long)]
         resume: bool,
         /// Also write DIR/events.parquet: every instance's located events (relief valve
-        /// openings and closings, pressurant exhausted, bulk merged, tank dry, cavitation onset
-        /// and end, phase ends) with time, phase and ullage pressure. CPU backend.
+        /// openings and closings, thermodynamic vent system starts and stops, pressurant
+        /// exhausted, bulk merged, tank dry, cavitation onset and end, phase ends) with time,
+        /// phase and ullage pressure. CPU backend.
         #[arg(long)]
         events: bool,
         /// After the run, write its HTML report to DIR/report (as `cryoslosh report DIR`).

@@ -235,9 +235,26 @@ pub fn check(campaign: &std::path::Path, set: &[String]) -> Result<Checked, Runn
         &screen,
         c.statistics.max_rejected_fraction,
     ));
-    let error = screen.median_rejected.map(|(key, why)| {
+    let mut median_rejected = screen
+        .median_rejected
+        .map(|(key, why)| (String::new(), key, why));
+    // Each variant draws the same samples into its own campaign: a variant's overrides can move
+    // a key's allowed range under them (a lower pump heat rejecting more mixers).
+    for (k, v) in c.variants.iter().enumerate() {
+        let vc = c.variant(k)?;
+        let s = montecarlo::screen::screen(&vc, c.seed, c.instances);
+        for line in montecarlo::screen::describe(&s, c.statistics.max_rejected_fraction).lines() {
+            text.push_str(&format!("variant {}: {line}\n", v.name));
+        }
+        if median_rejected.is_none() {
+            median_rejected = s
+                .median_rejected
+                .map(|(key, why)| (format!(" (variant {})", v.name), key, why));
+        }
+    }
+    let error = median_rejected.map(|(variant, key, why)| {
         RunnerError::BadInput(format!(
-            "{}: the dispersions are centred outside the allowed range of {key}: {why}",
+            "{}{variant}: the dispersions are centred outside the allowed range of {key}: {why}",
             campaign.display()
         ))
     });

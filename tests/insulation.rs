@@ -448,6 +448,25 @@ fn keys_the_insulation_makes_unused_are_refused() {
     let c = Campaign::from_text(&trade, &with_mli, &[]).unwrap();
     let mli = c.variant(c.variants.len() - 1).unwrap();
     assert!(mli.params.insulation.is_some());
+    // One that adds it to a campaign dispersing the fixed leak is refused naming the
+    // campaign's dispersion, a path a variant cannot hold (it read
+    // `variants.b.dispersions.inputs.0.key`).
+    let stage = campaign_path("lh2_upper_stage");
+    let text = std::fs::read_to_string(&stage).unwrap();
+    let dispersed = text
+        .split("[[dispersions.inputs]]")
+        .position(|block| block.contains("key = \"tank.heat_leak_w\""))
+        .expect("lh2_upper_stage disperses tank.heat_leak_w")
+        - 1;
+    let with_mli = text
+        + "\n[[variants]]\nname = \"a\"\n\n[[variants]]\nname = \"b\"\n\"insulation.mli_layers\" = 30\n\"insulation.mli_layer_density_per_cm\" = 15\n";
+    let e = Campaign::from_text(&stage, &with_mli, &[]).unwrap_err();
+    assert_eq!(
+        e.key(),
+        Some(format!("dispersions.inputs.{dispersed}.key").as_str()),
+        "{e}"
+    );
+    assert!(e.to_string().contains("under variant b"), "{e}");
 
     let bare = campaign_path("lh2_upper_stage");
     let e = Campaign::load(&bare, &["phases.0.environment=space".to_string()]).unwrap_err();

@@ -323,6 +323,33 @@ fn mixer_switched_off_in_a_phase_neither_mixes_nor_heats() {
     assert!(a.final_stratification_k < 0.1 * c.final_stratification_k);
 }
 
+/// A laminar jet is outside Fossett & Prosser's range only where the mixer runs: with every
+/// phase switching it off the campaign is accepted (it was refused, found by a user's attack),
+/// and it runs as the campaign without a mixer.
+#[test]
+fn laminar_mixer_switched_off_in_every_phase_is_accepted() {
+    let laminar = [
+        "mixer.pump_flow_m3_s=1e-7",
+        "mixer.nozzle_diameter_m=0.1",
+        "mixer.pump_heat_w=10",
+    ];
+    let o = check(&laminar);
+    assert_eq!(o.status.code(), Some(2), "a running laminar jet is refused");
+    let mut sets = laminar.to_vec();
+    sets.push("phases.0.mixer=false");
+    let o = check(&sets);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let off = load("mhtb_selfpress", &sets);
+    let none = load("mhtb_selfpress", &[]);
+    let [a, b] = [&off, &none].map(|c| simulate(c, &c.params, None));
+    assert_eq!(a.final_pressure_pa, b.final_pressure_pa);
+}
+
 /// The campaign of a dispersed mixer flow: a sample whose jet would be laminar is rejected by
 /// the key (not integrated with a correlation outside its range).
 #[test]
@@ -352,7 +379,6 @@ fn dispersed_flow_below_the_turbulent_range_is_rejected() {
 #[test]
 fn mixer_lane_group_equals_one_instance_at_a_time() {
     use cryoslosh::lanes::WIDTH;
-    use cryoslosh::simulate::simulate_lanes;
     let campaigns: Vec<Campaign> = (0..WIDTH)
         .map(|i| {
             let sets = [
@@ -366,12 +392,6 @@ fn mixer_lane_group_equals_one_instance_at_a_time() {
             load("mhtb_selfpress", &sets)
         })
         .collect();
-    let members: Vec<_> = campaigns.iter().map(|c| (c, &c.params)).collect();
-    let lanes = simulate_lanes(&members);
-    assert_eq!(lanes.len(), WIDTH);
-    for (i, (c, lane)) in campaigns.iter().zip(&lanes).enumerate() {
-        let one = simulate(c, &c.params, None);
-        assert_eq!(format!("{lane:?}"), format!("{one:?}"), "lane {i}");
-    }
+    let lanes = common::lanes_equal_one_at_a_time(&campaigns, "mixers");
     assert!(lanes[0].final_stratification_k < lanes[WIDTH - 1].final_stratification_k);
 }

@@ -197,7 +197,6 @@ fn fixed_schedule_is_the_regulator_without_the_key() {
 #[test]
 fn mixed_schedules_in_one_lane_group_equal_each_instance_alone() {
     use cryoslosh::lanes::WIDTH;
-    use cryoslosh::simulate::simulate_lanes;
     let campaigns: Vec<Campaign> = (0..WIDTH)
         .map(|i| {
             let mut sets = vec![format!(
@@ -217,13 +216,7 @@ fn mixed_schedules_in_one_lane_group_equal_each_instance_alone() {
             load("lox_ascent", &sets)
         })
         .collect();
-    let members: Vec<_> = campaigns.iter().map(|c| (c, &c.params)).collect();
-    let lanes = simulate_lanes(&members);
-    assert_eq!(lanes.len(), WIDTH);
-    for (i, (c, lane)) in campaigns.iter().zip(&lanes).enumerate() {
-        let one = simulate(c, &c.params, None);
-        assert_eq!(format!("{lane:?}"), format!("{one:?}"), "lane {i}");
-    }
+    common::lanes_equal_one_at_a_time(&campaigns, "schedules");
 }
 
 fn check(sets: &[&str]) -> Output {
@@ -270,12 +263,18 @@ fn bad_schedule_input_exits_2_naming_the_key() {
         (
             vec![sched, "pressurization.schedule_reference_ullage_m3=0"],
             "pressurization.schedule_reference_ullage_m3",
-            "(0, ",
+            "a finite number in [",
+        ),
+        // 1e-300 m³ multiplied the gains by 1e300 (a user's attack): the floor is 1e-4 V_tank.
+        (
+            vec![sched, "pressurization.schedule_reference_ullage_m3=1e-300"],
+            "pressurization.schedule_reference_ullage_m3",
+            "a finite number in [",
         ),
         (
             vec![sched, above.as_str()],
             "pressurization.schedule_reference_ullage_m3",
-            "(0, ",
+            "a finite number in [",
         ),
     ] {
         let o = check(&bad);
@@ -286,7 +285,7 @@ fn bad_schedule_input_exits_2_naming_the_key() {
     }
 }
 
-/// The reference ullage disperses like any number: a sample outside (0, V_tank] is rejected by
+/// The reference ullage disperses like any number: a sample outside [1e-4 V_tank, V_tank] is rejected by
 /// its key; a dispersion of it beside fixed gains (which never read it) is refused at load.
 #[test]
 fn dispersed_reference_ullage() {

@@ -10,7 +10,14 @@ import pyarrow.parquet as pq
 import cryoslosh
 
 TRADE = "campaigns/tank_design_trade.toml"
-NAMES = ["baseline", "baffles", "thick_insulation", "baffles_insulation", "mixer"]
+NAMES = [
+    "baseline",
+    "baffles",
+    "thick_insulation",
+    "baffles_insulation",
+    "mixer",
+    "pressure_control",
+]
 # The shipped trade, shortened (as tests/variants.rs does).
 SHORT = {
     "phases.pad_hold.duration_s": 30,

@@ -396,8 +396,15 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
     // Pressurization, relief, engine, feed, vehicle.
     let pressurization = systems::pressurization(&c, raw, fluid, tank.volume_m3(), fill)?;
     let relief = systems::relief(&c, raw, meop_pa)?;
-    let mixer = mixer::mixer(&c, raw.mixer.as_ref(), fluid, t_liquid, tank.radius_m())?;
-    let tvs = tvs::tvs(&c, raw, fluid, relief.as_ref())?;
+    let mixer_runs = raw.phases.iter().any(|ph| ph.mixer.unwrap_or(true));
+    let mixer = mixer::mixer(
+        &c,
+        raw.mixer.as_ref(),
+        fluid,
+        (t_liquid, tank.radius_m()),
+        mixer_runs,
+    )?;
+    let tvs = tvs::tvs(&c, raw, fluid, (t_liquid, meop_pa), relief.as_ref())?;
     let feed = systems::feed(&c, raw)?;
     let vehicle = systems::vehicle(&c, raw)?;
 

@@ -264,12 +264,21 @@ impl Campaign {
                 ..
             } => {
                 let at = canonical_key(&doc, &key);
-                let written = v
+                match v
                     .overrides
                     .iter()
                     .find(|(o, _)| canonical_key(&doc, o) == at)
-                    .map_or(key, |(o, _)| o.clone());
-                invalid(&written, value, allowed)
+                {
+                    Some((written, _)) => invalid(written, value, allowed),
+                    // A key of the campaign the variant did not set (a dispersion its overrides
+                    // made invalid): the campaign's own path, which a variant cannot hold.
+                    None => CampaignError::Invalid {
+                        file: self.path.clone(),
+                        key,
+                        value,
+                        allowed: format!("{allowed} (under variant {}'s overrides)", v.name),
+                    },
+                }
             }
             CampaignError::Distribution {
                 key,

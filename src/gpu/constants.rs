@@ -104,6 +104,7 @@ pub fn constants_wgsl() -> String {
         ("MIN_WALL_SHARE", crate::model::derive::MIN_WALL_SHARE),
         ("MIN_DEPTH_RATIO", crate::model::slosh::MIN_DEPTH_RATIO),
         ("BULK_MERGE_FRACTION", crate::model::BULK_MERGE_FRACTION),
+        ("EXCHANGER_PINCH_K", crate::model::tvs::EXCHANGER_PINCH_K),
         ("BULK_MERGE_DRAIN_S", crate::model::BULK_MERGE_DRAIN_S),
         ("SLOSH_BOND_MIN", crate::simulate::SLOSH_BOND_MIN),
         ("SLOSH_ANGLE_MAX_RAD", crate::simulate::SLOSH_ANGLE_MAX_RAD),

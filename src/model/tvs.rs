@@ -18,10 +18,11 @@
 //! (`phases.N.tvs`).
 //!
 //! **In the nodes.** While on, the J-T flow is drawn from the bulk (from the layer once the
-//! bulk has merged into it) and leaves at h_g(T_jt) when the node it comes from is warmer than
-//! T_jt — the exchanger is taken as sized to evaporate the whole J-T flow, as the MHTB's was;
-//! the vapour's superheat in the exchanger is neglected (it would remove a few per cent more) —
-//! and at the node's own enthalpy otherwise (a node colder than T_jt cannot be cooled by it).
+//! bulk has merged into it) and leaves at h_g(T_jt) when the node it comes from is at least
+//! [`EXCHANGER_PINCH_K`] warmer than T_jt — the exchanger is taken as sized to evaporate the
+//! whole J-T flow, as the MHTB's was; the vapour's superheat in the exchanger is neglected (it
+//! would remove a few per cent more) — at the node's own enthalpy at or below T_jt (nothing to
+//! cool), and linearly between (the share of the flow the exchanger can evaporate).
 //! The spray returns the recirculated liquid along the whole column: the layer's share of it,
 //! ρ_b Q m_s / (m_s + m_b), is exchanged with equal bulk mass, destratifying the liquid as the
 //! jet mixer does (`model::mixer`). The pump's heat enters the liquid (the `E_PUMP` ledger).
@@ -96,16 +97,20 @@ pub struct TvsFlows<T> {
     pub vent_enthalpy_j_per_kg: T,
 }
 
+/// Temperature difference, K, across which the exchanger goes from evaporating nothing (liquid
+/// at T_jt) to evaporating the whole J-T flow: a finite exchanger needs a driving difference,
+/// and a step from h_l to h_g at T = T_jt made the bulk chatter on it (87 852 steps where 1 102
+/// did, found by a user's attack).
+pub const EXCHANGER_PINCH_K: f64 = 0.5;
+
 impl<T: Real> TvsFlows<T> {
     /// The enthalpy the J-T flow leaves with when drawn from liquid at `t_k` (K) with specific
-    /// enthalpy `h_j_per_kg` (J/kg): h_g(T_jt) where the liquid is warmer than T_jt, else its
-    /// own.
+    /// enthalpy `h_j_per_kg` (J/kg): h_g(T_jt) where the liquid is at least
+    /// [`EXCHANGER_PINCH_K`] warmer than T_jt, its own h at or below T_jt, linear between (the
+    /// evaporated share of the flow).
     pub fn leaving_enthalpy(&self, t_k: T, h_j_per_kg: T) -> T {
-        T::select(
-            t_k.gt(self.jt_temperature_k),
-            self.vent_enthalpy_j_per_kg,
-            h_j_per_kg,
-        )
+        let share = ((t_k - self.jt_temperature_k) * (1.0 / EXCHANGER_PINCH_K)).clamp_c(0.0, 1.0);
+        h_j_per_kg + share * (self.vent_enthalpy_j_per_kg - h_j_per_kg)
     }
 }
 

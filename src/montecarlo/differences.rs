@@ -19,10 +19,11 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// QoIs whose differences are reported: the margins a design trade is judged on.
-pub const DIFFERENCE_QOIS: [&str; 8] = [
+pub const DIFFERENCE_QOIS: [&str; 9] = [
     "peak_pressure_pa",
     "boiloff_kg",
     "vented_kg",
+    "tvs_vented_kg",
     "pressurant_used_kg",
     "min_cavitation_margin_m",
     "max_slosh_angle_rad",

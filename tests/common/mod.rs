@@ -98,3 +98,21 @@ pub fn cryoslosh_at(args: &[&str], failpoint: Option<&str>) -> std::process::Out
     };
     cmd.output().unwrap()
 }
+
+/// Integrate `campaigns` as one lane group (`simulate_lanes`) and assert that each lane's summary
+/// is bit for bit the one of that instance integrated alone (`what` names the case in a
+/// failure); returns the lanes' summaries.
+pub fn lanes_equal_one_at_a_time(
+    campaigns: &[Campaign],
+    what: &str,
+) -> Vec<cryoslosh::simulate::Summary> {
+    use cryoslosh::simulate::{simulate, simulate_lanes};
+    let members: Vec<_> = campaigns.iter().map(|c| (c, &c.params)).collect();
+    let lanes = simulate_lanes(&members);
+    assert_eq!(lanes.len(), campaigns.len(), "{what}");
+    for (i, (c, lane)) in campaigns.iter().zip(&lanes).enumerate() {
+        let one = simulate(c, &c.params, None);
+        assert_eq!(format!("{lane:?}"), format!("{one:?}"), "{what}: lane {i}");
+    }
+    lanes
+}

@@ -27,13 +27,15 @@ fn round_up(w: f64) -> f64 {
 }
 
 /// Validate `[mixer]` (`None` when the campaign has none) for propellant `fluid` at the initial
-/// liquid temperature `t_liquid_k` (K) in a tank of radius `radius_m` (m).
+/// liquid temperature `t_liquid_k` (K) in a tank of radius `radius_m` (m). `runs`: some phase
+/// runs it (a mixer every phase switches off never uses the correlation, so its jet need not be
+/// turbulent).
 pub(super) fn mixer(
     c: &Checker,
     raw: Option<&RawMixer>,
     fluid: Fluid,
-    t_liquid_k: f64,
-    radius_m: f64,
+    (t_liquid_k, radius_m): (f64, f64),
+    runs: bool,
 ) -> Result<Option<Mixer>, CampaignError> {
     let Some(r) = raw else {
         return Ok(None);
@@ -56,7 +58,7 @@ pub(super) fn mixer(
     // Fossett & Prosser's constant holds for a turbulent jet: a flow that makes a laminar jet
     // is outside the correlation (a dispersed sample there is rejected, not used).
     let re = partial.jet_reynolds(rho, mu);
-    if flow > 0.0 && re < MIN_JET_REYNOLDS {
+    if runs && flow > 0.0 && re < MIN_JET_REYNOLDS {
         return Err(c.err(
             "mixer.pump_flow_m3_s",
             number(flow),

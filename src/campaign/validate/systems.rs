@@ -67,9 +67,14 @@ pub(super) fn pressurization(
         .transpose()
 }
 
+/// Smallest reference ullage of the gain schedule, as a share of the tank volume: a reference
+/// of 1e-300 m³ multiplied the gains by 1e300 (found by a user's attack).
+pub const MIN_SCHEDULE_REFERENCE_SHARE: f64 = 1.0e-4;
+
 /// `pressurization.gain_schedule` (`"fixed"` by default, or `"ullage_volume"`) and its reference
-/// ullage `schedule_reference_ullage_m3` in (0, V_tank], by default the initial ullage
-/// (1 − fill_fraction)·V_tank; the reference is refused beside fixed gains, which never read it.
+/// ullage `schedule_reference_ullage_m3` in [[`MIN_SCHEDULE_REFERENCE_SHARE`]·V_tank, V_tank], by
+/// default the initial ullage (1 − fill_fraction)·V_tank (at least that floor); the reference is
+/// refused beside fixed gains, which never read it.
 fn gain_schedule(
     c: &Checker,
     ps: &RawPressurization,
@@ -89,8 +94,14 @@ fn gain_schedule(
         },
         "ullage_volume" => {
             let reference_m3 = match ps.schedule_reference_ullage_m3 {
-                Some(v) => c.positive(REFERENCE, v, tank_volume_m3)?,
-                None => (1.0 - fill_fraction) * tank_volume_m3,
+                Some(v) => c.range(
+                    REFERENCE,
+                    v,
+                    MIN_SCHEDULE_REFERENCE_SHARE * tank_volume_m3,
+                    tank_volume_m3,
+                )?,
+                None => ((1.0 - fill_fraction) * tank_volume_m3)
+                    .max(MIN_SCHEDULE_REFERENCE_SHARE * tank_volume_m3),
             };
             Ok(GainSchedule::UllageVolume { reference_m3 })
         }

@@ -17,12 +17,19 @@ pub const MAX_PUMP_HEAT_W: f64 = 1.0e5;
 /// `validate::mixer::MIN_STEPS_PER_EXCHANGE_TIME`).
 pub const MIN_STEPS_PER_SPRAY_TIME: f64 = 2.0;
 
-/// Validate `[tvs]` (`None` when the campaign has none) for propellant `fluid`, against the
-/// relief valve `relief` (the band must lie below its crack).
+/// Narrowest band the TVS may hold, as a share of `band_upper_pa`: a pressure transducer's
+/// accuracy (0.1 % of reading). A 1 Pa band started the TVS 39 000 times in a day (found by a
+/// user's attack); the step count and the history grow without bound as the band closes.
+pub const MIN_BAND_SHARE: f64 = 1.0e-3;
+
+/// Validate `[tvs]` (`None` when the campaign has none) for propellant `fluid` with initial
+/// liquid temperature `t_liquid_k` (K), against the relief valve `relief` (the band must lie
+/// below its crack) and `tank.meop_pa` = `meop_pa` (Pa).
 pub(super) fn tvs(
     c: &Checker,
     raw: &RawCampaign,
     fluid: Fluid,
+    (t_liquid_k, meop_pa): (f64, f64),
     relief: Option<&Relief>,
 ) -> Result<Option<Tvs>, CampaignError> {
     let Some(r) = raw.tvs.as_ref() else {
@@ -32,11 +39,15 @@ pub(super) fn tvs(
         v.ok_or_else(|| c.err(key, "(missing)", "a value: every [tvs] needs it"))
     };
     let f = fluid.props();
-    let upper = c.positive(
-        "tvs.band_upper_pa",
-        required("tvs.band_upper_pa", r.band_upper_pa)?,
-        1.0e8,
-    )?;
+    let upper = required("tvs.band_upper_pa", r.band_upper_pa)?;
+    let upper = c.positive("tvs.band_upper_pa", upper, 1.0e8)?;
+    if upper > meop_pa {
+        return Err(c.err(
+            "tvs.band_upper_pa",
+            number(upper),
+            format!("at most tank.meop_pa = {}", number(meop_pa)),
+        ));
+    }
     if let Some(rv) = relief {
         if upper >= rv.crack_pa {
             return Err(c.err(
@@ -49,23 +60,40 @@ pub(super) fn tvs(
             ));
         }
     }
-    // The J-T outlet boils at T_sat(P_jt): inside the fits, and below the band.
-    let p_min = f.psat_pa(f.t_min_k);
-    let outlet = c.range(
-        "tvs.jt_outlet_pa",
-        required("tvs.jt_outlet_pa", r.jt_outlet_pa)?,
-        p_min.ceil(),
-        upper,
-    )?;
+    // The J-T outlet boils at T_sat(P_jt): inside the fits, below the band, and colder than
+    // the liquid it is to cool.
+    let p_min = f.psat_pa(f.t_min_k).ceil();
     let lower_in = required("tvs.band_lower_pa", r.band_lower_pa)?;
-    if !(lower_in.is_finite() && lower_in > outlet && lower_in < upper) {
+    let widest = upper * (1.0 - MIN_BAND_SHARE);
+    if !(lower_in.is_finite() && lower_in > p_min && lower_in <= widest) {
         return Err(c.err(
             "tvs.band_lower_pa",
             number(lower_in),
             format!(
-                "a finite number above tvs.jt_outlet_pa = {} and below tvs.band_upper_pa = {}",
-                number(outlet),
+                "a finite number in ({}, {}]: above the J-T outlet's lowest pressure and at \
+                 least {} % below tvs.band_upper_pa = {}",
+                number(p_min),
+                number(widest),
+                100.0 * MIN_BAND_SHARE,
                 number(upper)
+            ),
+        ));
+    }
+    let outlet = required("tvs.jt_outlet_pa", r.jt_outlet_pa)?;
+    let liquid_psat = f.psat_pa(t_liquid_k);
+    let below = lower_in.min(liquid_psat);
+    if !(outlet.is_finite() && outlet >= p_min && outlet < below) {
+        return Err(c.err(
+            "tvs.jt_outlet_pa",
+            number(outlet),
+            format!(
+                "a finite number in [{}, {}): at least the fits' lowest saturation pressure, \
+                 below tvs.band_lower_pa = {} and below P_sat = {} Pa of the initial liquid \
+                 (the vented flow must boil colder than the liquid it cools)",
+                number(p_min),
+                number(below),
+                number(lower_in),
+                number(liquid_psat.round())
             ),
         ));
     }
