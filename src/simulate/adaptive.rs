@@ -419,9 +419,6 @@ impl LaneRun<'_> {
         }
     }
 
-    /// The step fraction in [lo.0, hi.0] where `g` (of the derived state on the dense output)
-    /// crosses zero, g(lo) < 0 ≤ g(hi): Illinois regula falsi to 1e-10 of the step. Returns
-    /// the end of the last bracket where g ≥ 0, so the switch has happened there.
     /// Where switching function `g` of the step reaches 0: it is negative at the step start
     /// (`evs[0]`) and checked at mid-step (`evs[1]`) and the end (`evs[2]`); the first of those
     /// where it is ≥ 0 brackets the root, located on the dense output. None: no switch.
@@ -446,6 +443,9 @@ impl LaneRun<'_> {
         Some(self.locate(dense, (t0, h), lo, hi, |_, x| g(x)))
     }
 
+    /// The step fraction in [lo.0, hi.0] where `g` (of the derived state on the dense output)
+    /// crosses zero, g(lo) < 0 ≤ g(hi): Illinois regula falsi to 1e-10 of the step. Returns
+    /// the end of the last bracket where g ≥ 0, so the switch has happened there.
     fn locate(
         &mut self,
         dense: &Dense,
