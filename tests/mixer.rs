@@ -6,7 +6,7 @@ use cryoslosh::campaign::Campaign;
 use cryoslosh::fluids::Fluid;
 use cryoslosh::simulate::{simulate, History};
 use std::f64::consts::PI;
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// MHTB tank diameter, m (campaigns/mhtb_selfpress.toml: radius 1.525 m).
 const MHTB_DIAMETER_M: f64 = 3.05;
@@ -208,13 +208,7 @@ fn pump_heat_on_the_homogeneous_level_acts_as_the_same_heat_leak() {
 }
 
 fn check(sets: &[&str]) -> Output {
-    let camp = campaign_path("mhtb_selfpress");
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_cryoslosh"));
-    cmd.arg("check").arg(camp);
-    for s in sets {
-        cmd.args(["--set", s]);
-    }
-    cmd.output().unwrap()
+    common::check_shipped("mhtb_selfpress", sets)
 }
 
 const GOOD: [&str; 3] = [

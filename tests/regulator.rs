@@ -5,7 +5,7 @@ use common::{campaign_path, load, LEVELS};
 use cryoslosh::campaign::Campaign;
 use cryoslosh::fluids::HELIUM;
 use cryoslosh::simulate::{simulate, History};
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// A LOX tank on the pad pressurized with helium from 200 kPa to a 250 kPa setpoint by a pure
 /// P regulator (k_d = 0, no heat leak, no relief, no excitation): the only fast process is the
@@ -220,12 +220,7 @@ fn mixed_schedules_in_one_lane_group_equal_each_instance_alone() {
 }
 
 fn check(sets: &[&str]) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_cryoslosh"));
-    cmd.arg("check").arg(campaign_path("lox_ascent"));
-    for s in sets {
-        cmd.args(["--set", s]);
-    }
-    cmd.output().unwrap()
+    common::check_shipped("lox_ascent", sets)
 }
 
 /// Bad schedules exit 2 with the file, key, value and allowed range; `check` prints the schedule.

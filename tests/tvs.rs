@@ -277,12 +277,7 @@ fn tvs_lane_group_equals_one_instance_at_a_time() {
 }
 
 fn check(sets: &[&str]) -> std::process::Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_cryoslosh"));
-    cmd.arg("check").arg(campaign_path(CAMPAIGN));
-    for s in sets {
-        cmd.args(["--set", s]);
-    }
-    cmd.output().unwrap()
+    common::check_shipped(CAMPAIGN, sets)
 }
 
 #[test]

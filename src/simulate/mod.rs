@@ -17,7 +17,7 @@ pub use qoi::{
 
 use crate::campaign::{Campaign, Integrator};
 use crate::lanes::{Lanes, Mask, Real};
-use crate::model::derive::{self, slosh_angle, Derived, Drive, Switches};
+use crate::model::derive::{slosh_angle, Derived, Drive, Switches};
 use crate::model::flight::{Phase, G0};
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::{self, *};
@@ -325,20 +325,20 @@ impl<'a> LaneRun<'a> {
     /// The instance at t = 0, observed once.
     fn start(c: &'a Campaign, p: &'a Params) -> LaneRun<'a> {
         let s0 = initial_state(c, p);
-        // A TVS whose band the initial pressure already reaches runs from the start.
-        let p0 = derive::derive(
-            Group::one(p),
-            &s0,
-            &Drive::of_phase(&c.phases[0], 0.0, Default::default()),
-        )
-        .p_ullage_pa;
+        let mut d0 = Drive::of_phase(&c.phases[0], 0.0, Default::default());
+        let mut ev0 = model::evaluate(Group::one(p), &s0, &d0, c.phases[0].dt_s);
+        // A TVS whose band the initial pressure already reaches runs from the start (evaluated
+        // again with it on, as `start_instance` in shaders/observe.wgsl does).
+        let p0 = ev0.derived.p_ullage_pa;
         let tvs0 = model::tvs::update::<f64>(Group::one(p), p0, false, c.phases[0].tvs);
-        let switches = Switches {
-            relief: false,
-            tvs: tvs0,
-        };
-        let d0 = Drive::of_phase(&c.phases[0], 0.0, switches);
-        let ev0 = model::evaluate(Group::one(p), &s0, &d0, c.phases[0].dt_s);
+        if tvs0 {
+            let on = Switches {
+                relief: false,
+                tvs: true,
+            };
+            d0 = Drive::of_phase(&c.phases[0], 0.0, on);
+            ev0 = model::evaluate(Group::one(p), &s0, &d0, c.phases[0].dt_s);
+        }
         let mut tracker = Tracker::new(initial_vapor_mass(p, &s0));
         tracker.enter_phase(&c.phases[0].name, p, &s0, &ev0);
         tracker.observe(p, 0.0, &s0, &ev0, &d0);

@@ -116,3 +116,13 @@ pub fn lanes_equal_one_at_a_time(
     }
     lanes
 }
+
+/// `cryoslosh check` of shipped campaign `name` with `--set` overrides `sets`.
+pub fn check_shipped(name: &str, sets: &[&str]) -> std::process::Output {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_cryoslosh"));
+    cmd.arg("check").arg(campaign_path(name));
+    for s in sets {
+        cmd.args(["--set", s]);
+    }
+    cmd.output().unwrap()
+}
