@@ -94,6 +94,15 @@ impl Checker<'_> {
 
 /// A number as a person reads it: plain in [1e-4, 1e6), else in exponent form (1e300 would
 /// otherwise print as 301 digits).
+/// `w` rounded up to four significant digits, for a bound printed in a message.
+pub(super) fn round_up(w: f64) -> f64 {
+    if w <= 0.0 || !w.is_finite() {
+        return w;
+    }
+    let scale = 10f64.powi(3 - w.log10().floor() as i32);
+    (w * scale).ceil() / scale
+}
+
 fn number(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1.0e-4..1.0e6).contains(&v.abs()) {
         v.to_string()
@@ -419,6 +428,8 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         .map(|(i, ph)| phase(&c, i, ph, dt_default, stepping.max_step_s, dir))
         .collect::<Result<Vec<_>, _>>()?;
     phase_names(&c, &phases)?;
+    let m_liquid0_kg = fill * tank.volume_m3() * fluid.props().rho_l_kg_per_m3(t_liquid);
+    systems::other_propellants(&c, (&feed, &vehicle), &phases, m_liquid0_kg)?;
     mixer::phases(
         &c,
         mixer.as_ref(),

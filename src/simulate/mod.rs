@@ -461,7 +461,11 @@ impl<'a> LaneRun<'a> {
         if merged {
             self.evaluations += 1;
             *ev = model::evaluate(Group::one(self.params), s, d, h);
-            self.record(t, EventKind::BulkMerged, ev.derived.p_ullage_pa, s[M_S]);
+            // A merge into a state outside the model is the divergence `after_step` reports,
+            // not an event (it recorded p = NaN and 6e290 kg).
+            if check_state(self.params, s, &ev.derived).is_none() {
+                self.record(t, EventKind::BulkMerged, ev.derived.p_ullage_pa, s[M_S]);
+            }
         }
         merged
     }

@@ -2,10 +2,11 @@
 //! valve, engine and feed line, and the vehicle itself, with ranges and the cross-field rules
 //! between them (a relief valve above MEOP, a regulator set above the crack).
 
-use super::{composition, number, Checker};
+use super::{composition, number, round_up, Checker};
 use crate::campaign::raw::{RawCampaign, RawPressurization};
 use crate::campaign::CampaignError;
 use crate::fluids::Fluid;
+use crate::model::flight::{Phase, PhaseKind, G0};
 use crate::model::params::{Feed, GainSchedule, Pressurization, Relief, Vehicle};
 
 /// `[pressurization]`, if there is one, for propellant `fluid` in a tank of `tank_volume_m3`
@@ -219,4 +220,39 @@ pub(super) fn vehicle(c: &Checker, raw: &RawCampaign) -> Result<Vehicle, Campaig
             1.0e3,
         )?,
     })
+}
+
+/// The other propellants the burns draw before this tank can run dry,
+/// min(Σ thrust/(I_sp g₀) · duration · f, m_l0) · (1 − f)/f over the burn phases (f:
+/// `engine.propellant_fraction`, this tank's share of the engine flow; m_l0 the initial liquid
+/// mass, `m_liquid0_kg`), must fit in `vehicle.dry_mass_kg`, which holds them: a restart
+/// stretched past the oxidizer on board left the vehicle at its 1 kg floor under 110 kN,
+/// 853 m/s² and then NaN. A tank that runs dry first ends the instance (an outcome).
+pub(super) fn other_propellants(
+    c: &Checker,
+    (feed, vehicle): (&Feed, &Vehicle),
+    phases: &[Phase],
+    m_liquid0_kg: f64,
+) -> Result<(), CampaignError> {
+    let f = feed.propellant_fraction;
+    let tank_kg: f64 = phases
+        .iter()
+        .filter(|ph| ph.kind == PhaseKind::Burn)
+        .map(|ph| ph.thrust_n / (feed.isp_s * G0) * ph.duration_s * f)
+        .sum();
+    let other_kg = tank_kg.min(m_liquid0_kg) * (1.0 - f) / f;
+    if other_kg > vehicle.dry_mass_kg {
+        return Err(c.err(
+            "vehicle.dry_mass_kg",
+            number(vehicle.dry_mass_kg),
+            format!(
+                "at least {} kg: the burns draw that much of the other propellants \
+                 (thrust/(engine.isp_s·g0) × duration × (1 − engine.propellant_fraction), \
+                 until this tank runs dry), which the dry mass holds; shorten the burns or \
+                 raise the dry mass",
+                number(round_up(other_kg))
+            ),
+        ));
+    }
+    Ok(())
 }
