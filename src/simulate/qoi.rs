@@ -168,13 +168,9 @@ pub const SLOSH_ANGLE_MAX_RAD: f64 = 0.5;
 /// Relative difference below which two pressure peaks are the same peak (CPU, f64).
 const PEAK_TIE_REL: f64 = 1.0e-9;
 
-/// Share of the initial liquid mass left when the tank counts as dry: the engine stops drawing
-/// (the unusable residual, of the order of a sump's and the lines' trapped propellant). Below it
-/// the lumped nodes' vanishing masses take the wetted wall's heat and the outlet temperature
-/// spikes: with 0.1 % the minimum cavitation margin of a tank drained dry was set there and
-/// depended on the integrator (LH2 stage at 2–2.5 % fill, 50 instances: 1 cavitating under RK4,
-/// 15 under DOPRI5, median margins 10.3 m and 1.8 m); at 1 % both give 0 (39.8 m and 40.6 m).
-pub const DEPLETION_RESIDUAL_FRACTION: f64 = 1.0e-2;
+/// Share of the initial liquid left when the tank counts as dry (defined beside the model,
+/// whose campaign checks use it too).
+pub use crate::model::DEPLETION_RESIDUAL_FRACTION;
 /// Share of the bottle left when the pressurant counts as exhausted: the flow fades to zero over
 /// it (`model::boundary::boundary_flows`).
 pub const PRESSURANT_EMPTY_FRACTION: f64 = 1.0e-3;

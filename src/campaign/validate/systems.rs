@@ -2,12 +2,13 @@
 //! valve, engine and feed line, and the vehicle itself, with ranges and the cross-field rules
 //! between them (a relief valve above MEOP, a regulator set above the crack).
 
-use super::{composition, number, round_up, Checker};
+use super::{composition, number, Checker};
 use crate::campaign::raw::{RawCampaign, RawPressurization};
 use crate::campaign::CampaignError;
 use crate::fluids::Fluid;
 use crate::model::flight::{Phase, PhaseKind, G0};
 use crate::model::params::{Feed, GainSchedule, Pressurization, Relief, Vehicle};
+use crate::model::DEPLETION_RESIDUAL_FRACTION;
 
 /// `[pressurization]`, if there is one, for propellant `fluid` in a tank of `tank_volume_m3`
 /// (m³) filled to `fill_fraction`.
@@ -223,9 +224,10 @@ pub(super) fn vehicle(c: &Checker, raw: &RawCampaign) -> Result<Vehicle, Campaig
 }
 
 /// The other propellants the burns draw before this tank can run dry,
-/// min(Σ thrust/(I_sp g₀) · duration · f, m_l0) · (1 − f)/f over the burn phases (f:
+/// min(Σ thrust/(I_sp g₀) · duration · f, (1 − r) m_l0) · (1 − f)/f over the burn phases (f:
 /// `engine.propellant_fraction`, this tank's share of the engine flow; m_l0 the initial liquid
-/// mass, `m_liquid0_kg`), must fit in `vehicle.dry_mass_kg`, which holds them: a restart
+/// mass, `m_liquid0_kg`; r the residual at which it counts as dry,
+/// [`DEPLETION_RESIDUAL_FRACTION`]), must fit in `vehicle.dry_mass_kg`, which holds them: a restart
 /// stretched past the oxidizer on board left the vehicle at its 1 kg floor under 110 kN,
 /// 853 m/s² and then NaN. A tank that runs dry first ends the instance (an outcome).
 pub(super) fn other_propellants(
@@ -240,7 +242,8 @@ pub(super) fn other_propellants(
         .filter(|ph| ph.kind == PhaseKind::Burn)
         .map(|ph| ph.thrust_n / (feed.isp_s * G0) * ph.duration_s * f)
         .sum();
-    let other_kg = tank_kg.min(m_liquid0_kg) * (1.0 - f) / f;
+    let usable_kg = (1.0 - DEPLETION_RESIDUAL_FRACTION) * m_liquid0_kg;
+    let other_kg = tank_kg.min(usable_kg) * (1.0 - f) / f;
     if other_kg > vehicle.dry_mass_kg {
         return Err(c.err(
             "vehicle.dry_mass_kg",
@@ -250,7 +253,7 @@ pub(super) fn other_propellants(
                  (thrust/(engine.isp_s·g0) × duration × (1 − engine.propellant_fraction), \
                  until this tank runs dry), which the dry mass holds; shorten the burns or \
                  raise the dry mass",
-                number(round_up(other_kg))
+                number((other_kg * 10.0).ceil() / 10.0)
             ),
         ));
     }
