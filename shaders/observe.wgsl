@@ -153,6 +153,8 @@ fn enter_phase(slot: u32, r: ptr<function, GpuResult>, hi: ptr<function, St>, lo
     ph.vent_g_lo = (*lo)[VENT_G];
     ph.press_in_hi = (*hi)[PRESS_IN];
     ph.press_in_lo = (*lo)[PRESS_IN];
+    ph.vent_tvs_hi = (*hi)[VENT_TVS];
+    ph.vent_tvs_lo = (*lo)[VENT_TVS];
     phase_results[slot] = ph;
     // The new phase may switch the TVS off, or let it start above its band.
     switch_tvs(r, phases[slot], (*r).p_ullage_pa);

@@ -162,6 +162,7 @@ fn phase_floor(qoi: &str, q: &Summary) -> f64 {
         "pressure_rise_pa" => q.peak_pressure_pa.abs(),
         "boiloff_kg" => q.boiloff_kg.abs().max(1.0e-3),
         "vented_kg" => q.vented_kg.abs().max(1.0e-3),
+        "tvs_vented_kg" => q.tvs_vented_kg.abs().max(1.0e-3),
         "min_cavitation_margin_m" => 1.0e-2,
         "max_slosh_angle_rad" => q.max_slosh_angle_rad.max(1.0e-4),
         other => panic!("no floor for the per-phase QoI {other}"),

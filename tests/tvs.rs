@@ -394,3 +394,37 @@ fn run_reports_the_tvs_vented_mass_and_cycles() {
     assert!(t.iter().all(|v| *v > 0.0), "{t:?}");
     assert!(n.iter().all(|v| *v > 0), "{n:?}");
 }
+
+/// The per-phase `tvs_vented_kg.<phase>` columns: in the trade's `pressure_control` variant the
+/// TVS may run only in the coast, so the coast's amount is the mission's and the other phases'
+/// are zero (the GPU's phase records carried no TVS slot before, so there were no such columns).
+#[test]
+fn tvs_vented_mass_per_phase_adds_up_to_the_mission() {
+    let trade = load("tank_design_trade", &[]);
+    let variants = trade.variant_campaigns().unwrap();
+    let k = trade
+        .variants
+        .iter()
+        .position(|v| v.name == "pressure_control")
+        .expect("the trade has a pressure_control variant");
+    let c = &variants[k];
+    let q = simulate(c, &c.params, None);
+    assert!(!q.diverged, "{:?}", q.diverged_reason);
+    assert!(q.tvs_vented_kg > 0.1, "vented {}", q.tvs_vented_kg);
+    let sum: f64 = q.phases.iter().map(|p| p.tvs_vented_kg).sum();
+    assert!((sum - q.tvs_vented_kg).abs() <= 1e-12 * q.tvs_vented_kg);
+    for p in &q.phases {
+        let expect = if p.name == "coast" {
+            q.tvs_vented_kg
+        } else {
+            0.0
+        };
+        assert!(
+            (p.tvs_vented_kg - expect).abs() <= 1e-12 * q.tvs_vented_kg,
+            "{}: {} kg (mission {} kg)",
+            p.name,
+            p.tvs_vented_kg,
+            q.tvs_vented_kg
+        );
+    }
+}

@@ -16,7 +16,7 @@ use crate::engine::Engine;
 use crate::model::derive::Derived;
 use crate::model::flight::Phase;
 use crate::model::params::{Fidelity, Params};
-use crate::model::state::{State, M_V, NS, PRESS_IN, VENT_G, VENT_V};
+use crate::model::state::{State, M_V, NS, PRESS_IN, VENT_G, VENT_TVS, VENT_V};
 use crate::montecarlo::plan::{InstanceRecord, Plan};
 use crate::simulate::{cumulative, finish_summary, initial_state, PhaseSummary, Summary};
 use rayon::prelude::*;
@@ -439,6 +439,7 @@ fn phase_summaries(
         s[VENT_V] = join(ph.vent_v_hi, ph.vent_v_lo);
         s[VENT_G] = join(ph.vent_g_hi, ph.vent_g_lo);
         s[PRESS_IN] = join(ph.press_in_hi, ph.press_in_lo);
+        s[VENT_TVS] = join(ph.vent_tvs_hi, ph.vent_tvs_lo);
         cumulative(p, &s, join(ph.m_vapor_hi, ph.m_vapor_lo), m_vapor0)
     };
     let entered: Vec<&GpuPhaseResult> = records.iter().take_while(|ph| ph.entered != 0).collect();

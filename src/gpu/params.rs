@@ -255,9 +255,8 @@ gpu_struct! {
 
 gpu_struct! {
     /// One phase of one instance as the kernel saw it (`simulate::PhaseSummary`): whether it was
-    /// entered, its start values (pressure; vapour mass, vented and pressurant slots in hi + lo
-    /// words) and
-    /// its extremes. Indexed like the phases, instance × phase.
+    /// entered, its start values (pressure; vapour mass, vented, pressurant and TVS-vented slots
+    /// in hi + lo words) and its extremes. Indexed like the phases, instance × phase.
     pub struct GpuPhaseResult {
         pub entered: u32,
         pub drew: u32,
@@ -275,6 +274,9 @@ gpu_struct! {
         /// Pressurant admitted at the phase start (autogenous vapour is not boil-off), kg.
         pub press_in_hi: f32,
         pub press_in_lo: f32,
+        /// Bulk liquid the TVS had vented at the phase start, kg.
+        pub vent_tvs_hi: f32,
+        pub vent_tvs_lo: f32,
     }
 }
 

@@ -62,12 +62,13 @@ pub type PhaseQoi = (&'static str, fn(&PhaseSummary) -> f64);
 /// f64 quantities of interest per phase, as columns `<qoi>.<phase>` after [`QOI_F64`], phase by
 /// phase in the campaign's order. A phase the instance never entered (it ran dry or diverged
 /// before) has nulls; `min_cavitation_margin_m` is null in a phase where the engine never drew.
-pub const PHASE_QOIS: [PhaseQoi; 7] = [
+pub const PHASE_QOIS: [PhaseQoi; 8] = [
     ("peak_pressure_pa", |q| q.peak_pressure_pa),
     ("min_pressure_pa", |q| q.min_pressure_pa),
     ("pressure_rise_pa", PhaseSummary::pressure_rise_pa),
     ("boiloff_kg", |q| q.boiloff_kg),
     ("vented_kg", |q| q.vented_kg),
+    ("tvs_vented_kg", |q| q.tvs_vented_kg),
     ("min_cavitation_margin_m", |q| {
         q.min_cavitation_margin_m.unwrap_or(f64::NAN)
     }),

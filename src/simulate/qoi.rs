@@ -91,34 +91,47 @@ pub struct PhaseSummary {
     pub boiloff_kg: f64,
     /// Mass vented during the phase (vapour and helium), kg.
     pub vented_kg: f64,
+    /// Bulk liquid the thermodynamic vent system vented during the phase, kg.
+    pub tvs_vented_kg: f64,
     /// Smallest cavitation margin while the engine drew in this phase, m (None: no draw).
     pub min_cavitation_margin_m: Option<f64>,
     pub max_slosh_angle_rad: f64,
-    /// Cumulative boil-off and vented mass at the phase start, kg (the amounts are differences).
-    boiloff_start_kg: f64,
-    vented_start_kg: f64,
+    /// The cumulative amounts at the phase start (the phase's amounts are differences).
+    start_amounts: Amounts,
+}
+
+/// Cumulative amounts of a state since the mission's start, kg ([`cumulative`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Amounts {
+    /// Net mass evaporated (vapour gained plus vapour vented, pressurant vapour excluded).
+    pub boiloff_kg: f64,
+    /// Vapour and helium through the relief valve.
+    pub vented_kg: f64,
+    /// Bulk liquid through the thermodynamic vent system.
+    pub tvs_vented_kg: f64,
 }
 
 impl PhaseSummary {
-    /// Phase `name` starting at ullage pressure `pressure_pa` with the cumulative boil-off and
-    /// vented mass `(boiloff_kg, vented_kg)` of [`cumulative`] at its start.
-    pub fn start(name: &str, pressure_pa: f64, (boiloff_kg, vented_kg): (f64, f64)) -> Self {
+    /// Phase `name` starting at ullage pressure `pressure_pa` with the cumulative amounts
+    /// `start` of [`cumulative`] at its start.
+    pub fn start(name: &str, pressure_pa: f64, start: Amounts) -> Self {
         PhaseSummary {
             name: name.to_string(),
             start_pressure_pa: pressure_pa,
             peak_pressure_pa: pressure_pa,
             min_pressure_pa: pressure_pa,
-            boiloff_start_kg: boiloff_kg,
-            vented_start_kg: vented_kg,
+            start_amounts: start,
             ..Default::default()
         }
     }
 
-    /// Close the phase at the cumulative amounts `(boiloff_kg, vented_kg)` of its end (or of
-    /// the instance's end inside it).
-    pub fn close(&mut self, (boiloff_kg, vented_kg): (f64, f64)) {
-        self.boiloff_kg = boiloff_kg - self.boiloff_start_kg;
-        self.vented_kg = vented_kg - self.vented_start_kg;
+    /// Close the phase at the cumulative amounts `end` of its end (or of the instance's end
+    /// inside it).
+    pub fn close(&mut self, end: Amounts) {
+        let s = self.start_amounts;
+        self.boiloff_kg = end.boiloff_kg - s.boiloff_kg;
+        self.vented_kg = end.vented_kg - s.vented_kg;
+        self.tvs_vented_kg = end.tvs_vented_kg - s.tvs_vented_kg;
     }
 
     /// Highest pressure in the phase above its start pressure, Pa (0 when it only fell).
@@ -127,15 +140,16 @@ impl PhaseSummary {
     }
 }
 
-/// Cumulative boil-off and vented mass (vapour and helium) of state `s` with vapour mass
-/// `m_vapor_kg`, counted from the initial vapour mass `m_vapor0`, kg: the definitions of
-/// [`finish_summary`], so that the phases' amounts add up to the mission's. Boil-off is the
-/// vapour the liquid made: autogenous pressurant vapour (`p`'s) is not counted.
-pub fn cumulative(p: &Params, s: &State, m_vapor_kg: f64, m_vapor0: f64) -> (f64, f64) {
-    (
-        m_vapor_kg - m_vapor0 + s[VENT_V] - vapor_pressurant_kg(p, s),
-        s[VENT_V] + s[VENT_G],
-    )
+/// Cumulative boil-off, relief-vented mass (vapour and helium) and TVS-vented mass of state `s`
+/// with vapour mass `m_vapor_kg`, counted from the initial vapour mass `m_vapor0`, kg: the
+/// definitions of [`finish_summary`], so that the phases' amounts add up to the mission's.
+/// Boil-off is the vapour the liquid made: autogenous pressurant vapour (`p`'s) is not counted.
+pub fn cumulative(p: &Params, s: &State, m_vapor_kg: f64, m_vapor0: f64) -> Amounts {
+    Amounts {
+        boiloff_kg: m_vapor_kg - m_vapor0 + s[VENT_V] - vapor_pressurant_kg(p, s),
+        vented_kg: s[VENT_V] + s[VENT_G],
+        tvs_vented_kg: s[VENT_TVS],
+    }
 }
 
 impl Summary {
@@ -286,7 +300,7 @@ pub fn finish_summary(
     q.vented_kg = s[VENT_V] + s[VENT_G];
     q.pressurant_used_kg = s[PRESS_IN];
     q.propellant_drawn_kg = s[OUT];
-    q.boiloff_kg = cumulative(p, s, x.m_vapor_kg, m_vapor0).0;
+    q.boiloff_kg = cumulative(p, s, x.m_vapor_kg, m_vapor0).boiloff_kg;
     q.final_stratification_k = x.t_layer_k - x.t_bulk_k;
     q.final_pressure_pa = x.p_ullage_pa;
     q.cavitation = q.min_cavitation_margin_m.is_some_and(|m| m < 0.0);
@@ -343,16 +357,21 @@ fn events_text(q: &Summary) -> String {
     }
 }
 
-/// One line per phase entered: its extremes and amounts (the `<qoi>.<phase>` columns).
+/// One line per phase entered: its extremes and amounts (the `<qoi>.<phase>` columns); a TVS
+/// column when the thermodynamic vent system vented.
 fn phases_text(q: &Summary) -> String {
     if q.phases.len() < 2 {
         return String::new();
     }
     let width = q.phases.iter().map(|ph| ph.name.len()).max().unwrap_or(0);
+    let tvs = q.tvs_vented_kg != 0.0;
     let mut o = format!(
         "\nper phase: {:width$}  {:>12} {:>12} {:>11} {:>11} {:>11} {:>9}",
         "", "peak Pa", "rise Pa", "boil-off kg", "vented kg", "min NPSH m", "slosh rad"
     );
+    if tvs {
+        o += &format!(" {:>11}", "TVS kg");
+    }
     for ph in &q.phases {
         let margin = ph
             .min_cavitation_margin_m
@@ -367,6 +386,9 @@ fn phases_text(q: &Summary) -> String {
             margin,
             ph.max_slosh_angle_rad
         );
+        if tvs {
+            o += &format!(" {:>11.4}", ph.tvs_vented_kg);
+        }
     }
     o
 }
