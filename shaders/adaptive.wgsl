@@ -420,13 +420,9 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
         r.final_time_s = mission;
         let bad = check_state(&hi, ev_end.x);
         let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
-        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], r.phase_start_s + t0, mission, ev_end, bad, K[0][M_S] + K[0][M_B])) {
-            if (bad.x == 0.0) {
-                save_last(&r, ev_end.x);
-            } else {
-                hi = hi_prev;
-                lo = lo_prev;
-            }
+        let th_dry = outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], r.phase_start_s + t0, mission, ev_end, bad, K[0][M_S] + K[0][M_B]);
+        if (th_dry >= 0.0) {
+            end_dry(&r, &hi, &lo, hi_prev, lo_prev, ph, vec2<f32>(t0, t_end), r.phase_start_s + t0, th_dry, bad, valve);
             r.t_phase_s = t_end;
             break;
         }

@@ -132,8 +132,8 @@ fn observe(r: ptr<function, GpuResult>, s: ptr<function, St>, t: f32, ev: Eval, 
 }
 
 /// Phase record `slot` starts from the last observed state (hi + lo words) of `r`
-/// (simulate::qoi::Tracker::enter_phase): its start pressure, slosh angle, vapour mass, vented
-/// and pressurant slots.
+/// (simulate::qoi::Tracker::enter_phase): its start pressure, slosh angle, vapour mass, vented,
+/// pressurant and TVS-vented slots.
 fn enter_phase(slot: u32, r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>) {
     var ph: GpuPhaseResult;
     ph.entered = 1u;
@@ -247,10 +247,10 @@ fn crossing(a: f32, b: f32, level: f32) -> f32 {
 }
 
 /// Outcomes of the step from t0 to t1 ending at evaluation ev (LaneRun::outcomes): the bottle
-/// running out (first time), and the tank running dry. True when it ran dry. `bad`: the end
-/// state's check_state; when it failed, `rate0` (the liquid mass rate at the step's start),
-/// carried on, decides.
-fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval, bad: vec2<f32>, rate0: f32) -> bool {
+/// running out (first time), and the tank running dry. Returns the share of the step at which it
+/// ran dry, in [0, 1], or -1. `bad`: the end state's check_state; when it failed, `rate0` (the
+/// liquid mass rate at the step's start), carried on, decides.
+fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: f32, ev: Eval, bad: vec2<f32>, rate0: f32) -> f32 {
     if ((P.flags & FLAG_PRESSURIZATION) != 0u && (*r).exhausted == 0u) {
         let empty = P.press_bottle_kg * (1.0 - PRESSURANT_EMPTY_FRACTION);
         if (press1 >= empty) {
@@ -266,11 +266,47 @@ fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: 
         m_l = (*r).m_liquid_kg + (t1 - t0) * rate0;
     }
     if (!(m_l <= residual)) {
-        return false;
+        return -1.0;
     }
+    let th = crossing((*r).m_liquid_kg, m_l, residual);
     (*r).depleted = 1u;
-    (*r).depleted_time_s = t0 + crossing((*r).m_liquid_kg, m_l, residual) * (t1 - t0);
-    return true;
+    (*r).depleted_time_s = t0 + th * (t1 - t0);
+    return th;
+}
+
+/// The instance ran dry at share `th` of the step from the state `hi_prev` + `lo_prev` (phase
+/// time `tp0`, mission time `t0`) to `hi` + `lo` (phase time `tp1`): it ends on the state
+/// interpolated there, observed like a step's end, or on the step's start when the end state
+/// (`bad`) or the interpolated one left the model (LaneRun::outcomes).
+fn end_dry(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>, hi_prev: St, lo_prev: St, ph: GpuPhase, tp: vec2<f32>, t0: f32, th: f32, bad: vec2<f32>, valve: bool) {
+    let dt = tp.y - tp.x;
+    if (bad.x == 0.0) {
+        var s_hi = hi_prev;
+        var s_lo = lo_prev;
+        for (var j = 0u; j < NS; j++) {
+            // Kahan, as a step's update: the value is hi + lo.
+            let inc = th * (((*hi)[j] - hi_prev[j]) + ((*lo)[j] - lo_prev[j])) + s_lo[j];
+            let sum = (s_hi[j] + inc) * control.one;
+            s_lo[j] = inc - (sum - s_hi[j]);
+            s_hi[j] = sum;
+        }
+        let d = phase_drive(ph, tp.x + th * dt, valve);
+        let ev = evaluate(&s_hi, d, dt);
+        (*r).evaluations += 1u;
+        if (check_state(&s_hi, ev.x).x == 0.0) {
+            let t = t0 + th * dt;
+            observe(r, &s_hi, t, ev, d);
+            slosh_validity(r, &s_hi, th * dt, ev, d);
+            save_last(r, ev.x);
+            (*r).final_time_s = t;
+            *hi = s_hi;
+            *lo = s_lo;
+            return;
+        }
+    }
+    *hi = hi_prev;
+    *lo = lo_prev;
+    (*r).final_time_s = t0;
 }
 
 fn save_last(r: ptr<function, GpuResult>, x: Derived) {

@@ -89,13 +89,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let ev = evaluate(&hi, d, dt);
         let bad = check_state(&hi, ev.x);
         let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
-        if (outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, bad, k1[M_S] + k1[M_B])) {
-            if (bad.x == 0.0) {
-                save_last(&r, ev.x);
-            } else {
-                hi = hi_prev;
-                lo = lo_prev;
-            }
+        let th = outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, bad, k1[M_S] + k1[M_B]);
+        if (th >= 0.0) {
+            end_dry(&r, &hi, &lo, hi_prev, lo_prev, ph, vec2<f32>(tn - dt, tn), t - dt, th, bad, valve);
             break;
         }
         if (bad.x != 0.0) {

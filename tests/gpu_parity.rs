@@ -346,27 +346,45 @@ fn gpu_matches_cpu_with_a_table_excitation() {
     compare("lox_ascent_table", "lumped", &a, &b);
 }
 
-/// A burn that outlasts the propellant ends depleted on both backends, at the same time.
+/// A burn that outlasts the propellant ends depleted on both backends, at the same time, on the
+/// state there (the amount drawn and the final pressure alike), under either integrator.
 #[test]
 fn gpu_matches_cpu_when_the_tank_runs_dry() {
-    let c = load(
-        "lox_ascent",
-        &["phases.0.duration_s=1", "phases.1.duration_s=200"],
-    );
     let Some(gpu) = engine() else { return };
     let cpu = CpuEngine::new(0).unwrap();
-    let plan = Plan {
-        campaign: &c,
-        seed: c.seed,
-        total: 4,
-    };
-    let a = cpu.run_block(&plan, 0..4).unwrap();
-    let b = gpu.run_block(&plan, 0..4).unwrap();
-    for (a, b) in a.iter().zip(&b) {
-        let (a, b) = (&a.summary, &b.summary);
-        assert!(a.depleted && b.depleted && !a.diverged && !b.diverged);
-        let (ta, tb) = (a.depleted_time_s.unwrap(), b.depleted_time_s.unwrap());
-        assert!((ta - tb).abs() < 1e-3 * ta, "{ta} vs {tb}");
+    for integrator in ["rk4", "dopri5"] {
+        let c = load(
+            "lox_ascent",
+            &[
+                "phases.0.duration_s=1",
+                "phases.1.duration_s=200",
+                &format!("campaign.integrator={integrator}"),
+            ],
+        );
+        let (a, b) = both(&cpu, &gpu, &c, 4);
+        for (a, b) in a.iter().zip(&b) {
+            let (a, b) = (&a.summary, &b.summary);
+            assert!(a.depleted && b.depleted && !a.diverged && !b.diverged);
+            let (ta, tb) = (a.depleted_time_s.unwrap(), b.depleted_time_s.unwrap());
+            assert!((ta - tb).abs() < 1e-3 * ta, "{integrator}: {ta} vs {tb}");
+            assert_eq!(
+                a.final_time_s, ta,
+                "{integrator}: the CPU ends where it ran dry"
+            );
+            assert!(
+                (b.final_time_s - tb).abs() < 1e-5 * tb,
+                "{integrator}: the GPU too"
+            );
+            for (what, x, y) in [
+                ("drawn", a.propellant_drawn_kg, b.propellant_drawn_kg),
+                ("final pressure", a.final_pressure_pa, b.final_pressure_pa),
+            ] {
+                assert!(
+                    (x - y).abs() < 1e-3 * x.abs(),
+                    "{integrator}: {what} {x} vs {y}"
+                );
+            }
+        }
     }
 }
 

@@ -215,11 +215,12 @@ impl LaneRun<'_> {
         self.steps += 1;
         self.t = mission;
         let bad = super::check_state(p, &s_end, &ev_end.derived);
+        let mut history = history;
         if self.outcomes(
             (self.phase_start_s + t0, mission),
-            &s_end,
-            &ev_end,
+            (&s_end, &ev_end),
             bad.is_none(),
+            history.as_deref_mut(),
         ) {
             self.t_phase = t_end;
             return;
