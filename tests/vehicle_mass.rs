@@ -4,25 +4,11 @@
 //! inside the bound ends as an outcome.
 
 mod common;
-use common::campaign_path;
-use std::process::{Command, Output};
-
-fn cryoslosh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use common::{campaign_path, check_shipped, cryoslosh_at};
 
 #[test]
 fn a_burn_longer_than_the_other_propellants_on_board_is_refused_naming_the_dry_mass() {
-    let camp = campaign_path("lh2_upper_stage");
-    let o = cryoslosh(&[
-        "check",
-        camp.to_str().unwrap(),
-        "--set",
-        "phases.restart.duration_s=1000",
-    ]);
+    let o = check_shipped("lh2_upper_stage", &["phases.restart.duration_s=1000"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("vehicle.dry_mass_kg = 22000"), "{err}");
@@ -47,18 +33,21 @@ fn a_tank_run_dry_inside_the_bound_is_depleted_not_diverged() {
     let camp = campaign_path("lh2_upper_stage");
     let out =
         std::env::temp_dir().join(format!("cryoslosh-vehicle-{}.parquet", std::process::id()));
-    let o = cryoslosh(&[
-        "simulate",
-        camp.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--set",
-        "pressurization.setpoint_pa=185000",
-        "--set",
-        "phases.restart.duration_s=640",
-        "--set",
-        "propellant.fill_fraction=0.3",
-    ]);
+    let o = cryoslosh_at(
+        &[
+            "simulate",
+            camp.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--set",
+            "pressurization.setpoint_pa=185000",
+            "--set",
+            "phases.restart.duration_s=640",
+            "--set",
+            "propellant.fill_fraction=0.3",
+        ],
+        None,
+    );
     let _ = std::fs::remove_file(&out);
     let text = String::from_utf8_lossy(&o.stdout);
     assert_eq!(
