@@ -94,15 +94,6 @@ impl Checker<'_> {
 
 /// A number as a person reads it: plain in [1e-4, 1e6), else in exponent form (1e300 would
 /// otherwise print as 301 digits).
-/// `w` rounded up to four significant digits, for a bound printed in a message.
-pub(super) fn round_up(w: f64) -> f64 {
-    if w <= 0.0 || !w.is_finite() {
-        return w;
-    }
-    let scale = 10f64.powi(3 - w.log10().floor() as i32);
-    (w * scale).ceil() / scale
-}
-
 fn number(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1.0e-4..1.0e6).contains(&v.abs()) {
         v.to_string()

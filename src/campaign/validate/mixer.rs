@@ -1,7 +1,7 @@
 //! `[mixer]`: the axial jet mixer (`model::mixer`, docs/PHYSICS.md 2.6) with its ranges, the
 //! correlation's validity range (a turbulent jet) and the per-phase `mixer` switches.
 
-use super::{number, round_up, Checker};
+use super::{number, Checker};
 use crate::campaign::raw::{RawMixer, RawPhase};
 use crate::campaign::{CampaignError, Integrator};
 use crate::fluids::Fluid;
@@ -16,6 +16,15 @@ pub const MIN_STEPS_PER_EXCHANGE_TIME: f64 = 2.0;
 
 /// Largest pump heat a `[mixer]` may dissipate in the propellant, W.
 pub const MAX_PUMP_HEAT_W: f64 = 1.0e5;
+
+/// `w` rounded up to four significant digits, for a bound printed in a message.
+fn round_up(w: f64) -> f64 {
+    if w <= 0.0 || !w.is_finite() {
+        return w;
+    }
+    let scale = 10f64.powi(3 - w.log10().floor() as i32);
+    (w * scale).ceil() / scale
+}
 
 /// Validate `[mixer]` (`None` when the campaign has none) for propellant `fluid` at the initial
 /// liquid temperature `t_liquid_k` (K) in a tank of radius `radius_m` (m). `runs`: some phase
