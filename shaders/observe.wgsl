@@ -275,7 +275,7 @@ fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: 
 }
 
 /// The instance ran dry at share `th` of the step from the state `hi_prev` + `lo_prev` (phase
-/// time `tp0`, mission time `t0`) to `hi` + `lo` (phase time `tp1`): it ends on the state
+/// time `tp.x`, mission time `t0`) to `hi` + `lo` (phase time `tp.y`): it ends on the state
 /// interpolated there, observed like a step's end, or on the step's start when the end state
 /// (`bad`) or the interpolated one left the model (LaneRun::outcomes).
 fn end_dry(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>, hi_prev: St, lo_prev: St, ph: GpuPhase, tp: vec2<f32>, t0: f32, th: f32, bad: vec2<f32>, valve: bool) {

@@ -157,7 +157,7 @@ impl LaneRun<'_> {
         h: f64,
         error: f64,
         mid: &Evaluation,
-        history: Option<&mut History>,
+        mut history: Option<&mut History>,
     ) {
         let p = self.params;
         let dense = Dense::new(y0, y1, k, h);
@@ -215,7 +215,6 @@ impl LaneRun<'_> {
         self.steps += 1;
         self.t = mission;
         let bad = super::check_state(p, &s_end, &ev_end.derived);
-        let mut history = history;
         if self.outcomes(
             (self.phase_start_s + t0, mission),
             (&s_end, &ev_end),

@@ -541,6 +541,19 @@ impl<'a> LaneRun<'a> {
         }
     }
 
+    /// The end of a fixed step (or of the part of one before the tank ran dry) from mission time
+    /// `t0` to `t`, at state `s` with evaluation `ev` under drive `d`: extremes, time outside
+    /// the slosh analog's range, and cavitation onset or end located linearly in the step.
+    fn observe_end(&mut self, (t0, t): (f64, f64), s: &State, ev: &Evaluation, d: &Drive) {
+        let p = self.params;
+        self.tracker.observe(p, t, s, ev, d);
+        self.slosh_validity(t - t0, s, ev, d);
+        let margin = d.burning.then(|| cavitation_margin(p, s, &ev.derived).0);
+        self.cavitation_events((t0, t), margin, ev.derived.p_ullage_pa, |_, _, before| {
+            t0 + crossing(before, margin.unwrap_or(0.0), 0.0) * (t - t0)
+        });
+    }
+
     /// Outcomes of the step from the last good state (mission time `t0`) to state `s` with
     /// evaluation `ev` at `t1`: the pressurant running out (first time) and the tank running dry
     /// (drawn by the engine or boiled off), which ends the instance at that time (its history row
@@ -609,16 +622,8 @@ impl<'a> LaneRun<'a> {
             .filter(|(s_dry, ev, _)| check_state(p, s_dry, &ev.derived).is_none());
         match dry {
             Some((s_dry, ev, d)) => {
-                self.tracker.observe(p, t, &s_dry, &ev, &d);
-                self.slosh_validity(t - t0, &s_dry, &ev, &d);
-                let pressure = ev.derived.p_ullage_pa;
-                let margin = d
-                    .burning
-                    .then(|| cavitation_margin(p, &s_dry, &ev.derived).0);
-                self.cavitation_events((t0, t), margin, pressure, |_, _, before| {
-                    t0 + crossing(before, margin.unwrap_or(0.0), 0.0) * (t - t0)
-                });
-                self.record(t, EventKind::Depleted, pressure, residual);
+                self.observe_end((t0, t), &s_dry, &ev, &d);
+                self.record(t, EventKind::Depleted, ev.derived.p_ullage_pa, residual);
                 if let Some(h) = history {
                     h.push(row(p, t, &s_dry, &ev, &d), &self.phase().name, self.valve);
                 }
@@ -644,7 +649,7 @@ impl<'a> LaneRun<'a> {
         mut merged_state: State,
         mut merged_ev: Evaluation,
         d: &Drive,
-        history: Option<&mut History>,
+        mut history: Option<&mut History>,
     ) -> bool {
         let p = self.params;
         // From the phase start, not summed step by step: a phase of n steps ends at its
@@ -655,7 +660,6 @@ impl<'a> LaneRun<'a> {
         self.steps += 1;
         self.t = t;
         let bad = check_state(p, s, &ev.derived);
-        let mut history = history;
         if self.outcomes(
             (t - self.dt, t),
             (s, ev),
@@ -668,14 +672,8 @@ impl<'a> LaneRun<'a> {
             self.diverge(&reason, t, Some(*s));
             return false;
         }
-        self.tracker.observe(p, t, s, ev, d);
-        self.slosh_validity(self.dt, s, ev, d);
+        self.observe_end((t - self.dt, t), s, ev, d);
         let pressure = ev.derived.p_ullage_pa;
-        let margin = d.burning.then(|| cavitation_margin(p, s, &ev.derived).0);
-        let t0 = t - self.dt;
-        self.cavitation_events((t0, t), margin, pressure, |_, _, before| {
-            t0 + crossing(before, margin.unwrap_or(0.0), 0.0) * (t - t0)
-        });
         let before = self.valve;
         self.valve = model::update_valve(Group::one(p), pressure, self.valve);
         self.tracker.summary.relief_cycles += u64::from(self.valve && !before);
