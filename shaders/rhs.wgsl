@@ -171,7 +171,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
         h_sb0 = P.h_sb;
     }
     let h_sb = h_sb0 + h_unstable_interface(liq, x.a_ax, t_b - t_s, 0.5 * r_surf) + P.coupling_h * speed;
-    let q_sb = h_sb * a_i * (t_s - t_b);
+    let q_sb_raw = h_sb * a_i * (t_s - t_b);
 
     let alpha = P.diffusivity_factor * fl_k_l(t_s) / (x.rho_s * fl_cp_l(t_s));
     let delta = max((*s)[M_S] / (x.rho_s * a_i), 1.0e-6);
@@ -186,6 +186,9 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let m_spray = tv.pump_m3_s * x.rho_b * (*s)[M_S] / max((*s)[M_S] + m_b, 1.0e-9) * bulk_left;
     let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left + m_jet + m_spray;
     let q_pump = jet.y + tv.pump_heat_w;
+    // Layer ↔ bulk exchange as a two-node relaxation, stable at any step (nodes.rs::rhs).
+    let z = dt * (m_mix + h_sb * a_i / liq.cp) * (1.0 / max((*s)[M_S], 1.0e-9) + 1.0 / max(m_b, 1.0e-9));
+    let damp = stiff_blend(z).x;
 
     let b = boundary_flows(s, d, x);
     let h_mass = h_us / (gas.rho * gas.cp);
@@ -206,10 +209,11 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - y);
     (*ds)[M_B] = -m_strat - out_b - tvs_b;
-    let mix_w = m_mix * (h_ls - h_lb);
+    let mix_w = damp * m_mix * (h_ls - h_lb);
     let q_pump_b = q_pump * bulk_left;
     let h_tvs_b = tvs_leaving_enthalpy(tv, t_b, h_lb);
     let h_tvs_s = tvs_leaving_enthalpy(tv, t_s, h_ls);
+    let q_sb = damp * q_sb_raw;
     let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b - tvs_b * h_tvs_b;
     let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
     (*ds)[H_B] = rb.x;
