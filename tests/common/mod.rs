@@ -11,13 +11,14 @@ pub mod gpu;
 pub mod report;
 
 /// Every shipped campaign.
-pub const CAMPAIGNS: [&str; 6] = [
+pub const CAMPAIGNS: [&str; 7] = [
     "lh2_upper_stage",
     "lox_ascent",
     "lch4_coast",
     "mhtb_selfpress",
     "aydelott_sphere",
     "methalox_autogenous",
+    "ln2_slosh_destratification",
 ];
 
 /// The physics levels implemented so far.
