@@ -98,6 +98,14 @@ fn slosh_angle(s: ptr<function, St>, sl: Slosh) -> f32 {
     return (*s)[Q1];
 }
 
+/// The second mode's equivalent angle atan(|x_2| / L_2) (derive::mode2_angle); 0 but two_mode.
+fn mode2_angle(s: ptr<function, St>, sl: Slosh) -> f32 {
+    if (P.fidelity == FID_TWO_MODE) {
+        return atan(abs((*s)[Q2]) / sl.length.y);
+    }
+    return 0.0;
+}
+
 fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
     var x: Derived;
     let m_s = max((*s)[M_S], 1.0e-12);

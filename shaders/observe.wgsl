@@ -232,7 +232,7 @@ fn slosh_validity(r: ptr<function, GpuResult>, s: ptr<function, St>, dt: f32, ev
     let a = sqrt(ev.x.a_ax * ev.x.a_ax + d.a_lat * d.a_lat);
     let sigma = P.sigma0 * pow(max(1.0 - ev.x.t_s / P.sigma_tc, 0.0), P.sigma_exp);
     let bond = ev.x.rho_b * a * TANK.radius * TANK.radius / sigma;
-    if (bond < SLOSH_BOND_MIN || abs(slosh_angle(s, ev.x.sl)) > SLOSH_ANGLE_MAX_RAD) {
+    if (bond < SLOSH_BOND_MIN || max(abs(slosh_angle(s, ev.x.sl)), mode2_angle(s, ev.x.sl)) > SLOSH_ANGLE_MAX_RAD) {
         (*r).slosh_out = 1u;
         (*r).slosh_out_time_s += dt;
     }

@@ -123,3 +123,29 @@ fn the_pressure_drop_grows_with_the_wave_amplitude() {
         );
     }
 }
+
+/// Shaken at the second mode (ξ₂ = 5.3314), `two_mode`'s mode 2 swings x₂/L₂ beyond the analog's
+/// range while θ₁ stays small: the instance is flagged (it was not, with a 40 kPa larger drop
+/// than at f1).
+#[test]
+fn a_second_mode_wave_beyond_the_range_is_flagged() {
+    let xi2: f64 = 5.3314;
+    let (r, h, g) = (0.148, 0.69 * 0.625, 9.80665);
+    let f2 = (g * xi2 / r * (xi2 * h / r).tanh()).sqrt() / (2.0 * PI);
+    let a = DISPLACEMENT_M * (2.0 * PI * f2).powi(2);
+    let c = load(
+        CAMPAIGN,
+        &[
+            "campaign.fidelity=two_mode",
+            &format!("phases.shake.excitation.frequency_hz={f2}"),
+            &format!("phases.shake.excitation.amplitude_m_s2={a}"),
+        ],
+    );
+    let s = simulate(&c, &c.params, None);
+    assert!(!s.diverged);
+    assert!(s.max_slosh_angle_rad < 0.05, "{}", s.max_slosh_angle_rad);
+    assert!(
+        s.slosh_out_of_range,
+        "mode 2 beyond its range is not flagged"
+    );
+}

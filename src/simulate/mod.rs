@@ -17,7 +17,7 @@ pub use qoi::{
 
 use crate::campaign::{Campaign, Integrator};
 use crate::lanes::{Lanes, Mask, Real};
-use crate::model::derive::{slosh_angle, Derived, Drive, Switches};
+use crate::model::derive::{mode2_angle, slosh_angle, Derived, Drive, Switches};
 use crate::model::flight::{Phase, G0};
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::{self, *};
@@ -534,7 +534,9 @@ impl<'a> LaneRun<'a> {
         let sigma = p.fluid.surface_tension().sigma_n_per_m(x.t_layer_k);
         let r = p.tank.radius_m();
         let bond = x.rho_bulk * a * r * r / sigma;
-        let angle = slosh_angle(Group::one(p), s, &x.slosh).abs();
+        let angle = slosh_angle(Group::one(p), s, &x.slosh)
+            .abs()
+            .max(mode2_angle(Group::one(p), s, &x.slosh));
         if bond < SLOSH_BOND_MIN || angle > SLOSH_ANGLE_MAX_RAD {
             self.tracker.summary.slosh_out_of_range = true;
             self.slosh_out_s += dt_s;
