@@ -498,3 +498,48 @@ fn set_takes_toml_literals_as_written_in_the_file() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("pressurization.gas"), "{}", stderr(&o));
 }
+
+/// An unknown excitation kind was refused for its amplitude ("a bogus excitation takes no
+/// parameters") instead of for its kind, and a table excitation took 5000 m/s² that the other
+/// kinds refuse: both now exit 2 naming the key, the value and the allowed range.
+#[test]
+fn an_unknown_excitation_kind_and_a_table_beyond_range_are_refused() {
+    let dir = scratch("excitation");
+    std::fs::create_dir_all(&dir).unwrap();
+    let campaign = campaign_path("ln2_slosh_destratification");
+    let o = cryoslosh(&[
+        "check",
+        campaign.to_str().unwrap(),
+        "--set",
+        "phases.shake.excitation.kind=bogus",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("phases.0.excitation.kind") && e.contains("\"bogus\"") && e.contains("sine"),
+        "{e}"
+    );
+    // Without its dispersions (which spread the sine's amplitude and frequency).
+    let whole = std::fs::read_to_string(&campaign).unwrap();
+    let text = whole.split("[dispersions]").next().unwrap().replacen(
+        "excitation = { kind = \"sine\", amplitude_m_s2 = 0.0121995, frequency_hz = 1.757886 }",
+        "excitation = { kind = \"table\", file = \"shake.csv\" }",
+        1,
+    );
+    let file = dir.join("c.toml");
+    std::fs::write(&file, text).unwrap();
+    std::fs::write(dir.join("shake.csv"), "0,0\n10,5000\n").unwrap();
+    let o = cryoslosh(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("phases.0.excitation.file")
+            && e.contains("shake.csv:2")
+            && e.contains("[-1000, 1000]"),
+        "{e}"
+    );
+    std::fs::write(dir.join("shake.csv"), "0,0\n10,500\n").unwrap();
+    let o = cryoslosh(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::remove_dir_all(dir).ok();
+}

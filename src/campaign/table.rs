@@ -9,6 +9,9 @@ use crate::model::flight::Excitation;
 use std::path::Path;
 
 /// Read and check an excitation table, naming `key` and the line on any error.
+/// Largest |a_lat| and |a_ax| a table row may hold, m/s² (the amplitude range of the other kinds).
+const MAX_TABLE_ACCEL_M_S2: f64 = 1000.0;
+
 pub(super) fn read_excitation_table(
     c: &Checker,
     key: &str,
@@ -45,11 +48,14 @@ pub(super) fn read_excitation_table(
         let ok_len = nums.len() == 2 || nums.len() == 3;
         let finite = nums.iter().all(|v| v.is_finite());
         let increasing = ts.last().is_none_or(|&last| nums[0] > last);
-        if !ok_len || !finite || !increasing {
+        // The accelerations keep the other kinds' amplitude range.
+        let in_range = nums[1..].iter().all(|a| a.abs() <= MAX_TABLE_ACCEL_M_S2);
+        if !ok_len || !finite || !increasing || !in_range {
             return Err(c.table_err(
                 key,
                 format!("{}:{}: {line}", path.display(), n + 1),
-                "2 or 3 finite numbers per row, time strictly increasing",
+                "2 or 3 finite numbers per row, time strictly increasing, accelerations in \
+                 [-1000, 1000] m/s²",
             ));
         }
         ts.push(nums[0]);

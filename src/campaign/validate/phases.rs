@@ -150,6 +150,10 @@ fn excitation(
     dir: &Path,
 ) -> Result<Excitation, CampaignError> {
     let key = |k: &str| format!("{base}.{k}");
+    const KINDS: [&str; 7] = ["none", "step", "ramp", "sine", "sweep", "gust", "table"];
+    if !KINDS.contains(&e.kind.as_str()) {
+        return Err(c.err(&key("kind"), format!("{:?}", e.kind), KINDS.join(" | ")));
+    }
     // A parameter the kind does not use is an error, not silently ignored (a gust's
     // frequency_hz, a table's amplitude).
     let takes: &[&str] = match e.kind.as_str() {
