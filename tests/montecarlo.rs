@@ -306,3 +306,64 @@ fn closed_tank_sobol_is_centred_and_counts_complete_groups() {
     }
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// Relief-valve openings are a valve-life margin: `relief_cycles` gets the distribution rows and a
+/// `[[statistics.thresholds]]` on it, P(relief_cycles > 5), equals the share counted from
+/// instances.parquet; a campaign without a TVS reports its `tvs_cycles` as constant.
+#[test]
+fn relief_cycles_have_statistics_and_a_threshold() {
+    let dir = scratch("cycles");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(campaign_path("lch4_coast")).unwrap();
+    let file = dir.join("coast.toml");
+    std::fs::write(
+        &file,
+        format!("{text}\n[[statistics.thresholds]]\nquantity = \"relief_cycles\"\nabove = 5\n"),
+    )
+    .unwrap();
+    let c = Campaign::load(&file, &[]).unwrap();
+    let out = dir.join("out");
+    let r = run(&c, &out, 48, 2, 48, Shard::ALL);
+    let cycles =
+        cryoslosh::montecarlo::table::read_u64(&out.join("instances.parquet"), "relief_cycles")
+            .unwrap();
+    let n = cycles.len() as u64 - r.rejected - r.diverged;
+    let above = cycles.iter().filter(|&&k| k > 5).count() as f64;
+    let p = statistics::find(&r.statistics, "relief_cycles", "prob_exceed").unwrap();
+    assert_eq!(p.n, n);
+    assert!(
+        above > 0.0 && above < n as f64,
+        "pick a threshold inside the spread"
+    );
+    assert_eq!(p.value, above / n as f64);
+    assert!(p.ci_low < p.value && p.value < p.ci_high);
+    let mean = statistics::find(&r.statistics, "relief_cycles", "mean").unwrap();
+    let expect = cycles.iter().sum::<u64>() as f64 / n as f64;
+    assert!(
+        (mean.value - expect).abs() < 1e-12,
+        "{} vs {expect}",
+        mean.value
+    );
+    assert!(statistics::find(&r.statistics, "tvs_cycles", "constant").is_some());
+    // A threshold on a name that is no quantity is refused with the allowed names.
+    std::fs::write(
+        &file,
+        format!("{text}\n[[statistics.thresholds]]\nquantity = \"relief_cycle\"\nabove = 5\n"),
+    )
+    .unwrap();
+    let bad = cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        dir.join("bad").to_str().unwrap(),
+        "--instances",
+        "4",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("statistics.thresholds.0.quantity") && err.contains("relief_cycles"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -203,7 +203,11 @@ impl RunError {
 
 /// A `[statistics]` or `--until` key naming a QoI column, or the error naming the key.
 fn check_quantity(c: &Campaign, key: &str, q: &str) -> Result<(), RunError> {
-    let names = table::qoi_names(&table::phase_names(c));
+    check_quantity_in(c, key, q, &table::qoi_names(&table::phase_names(c)))
+}
+
+/// [`check_quantity`] against the quantity names `names`.
+fn check_quantity_in(c: &Campaign, key: &str, q: &str, names: &[String]) -> Result<(), RunError> {
     if names.iter().any(|name| name == q) {
         return Ok(());
     }
@@ -229,8 +233,11 @@ fn target_quantity(t: &crate::campaign::statistics::Target) -> &str {
 /// Check that every `[statistics]` threshold and target names a QoI column.
 pub fn check_statistics(c: &Campaign) -> Result<(), RunError> {
     let st = &c.statistics;
+    // A threshold may also name a count (relief_cycles, tvs_cycles); a precision target reads
+    // the QoIs only.
+    let described = table::statistic_names(&table::phase_names(c));
     for t in &st.thresholds {
-        check_quantity(c, &format!("{}.quantity", t.key), &t.quantity)?;
+        check_quantity_in(c, &format!("{}.quantity", t.key), &t.quantity, &described)?;
     }
     if let Some(t) = &st.target {
         check_quantity(c, "statistics.target.quantity", target_quantity(t))?;

@@ -7,7 +7,7 @@
 //! interval with the Bonett–Wright variance, Sobol indices a bootstrap over complete groups; and
 //! the campaign's one-sided (Wilks) tolerance bounds are reported beside them.
 
-use super::table::{qoi_names, read_bool, read_f64, read_flag, ReadError};
+use super::table::{read_bool, read_f64, read_flag, statistic_names, ReadError};
 use crate::campaign::dispersion::Dispersions;
 use crate::campaign::statistics::{quantile_name, Side, StatisticsPlan, Threshold};
 use crate::output::{ColumnData, ColumnKind, ColumnSpec, OutputError, TableWriter};
@@ -261,7 +261,7 @@ pub fn compute(path: &Path, spec: &Spec) -> Result<Vec<Row>, ReadError> {
     let thresholds = thresholds(spec);
     // QoIs without sensitivities: constant ones and those with no value at all.
     let mut constant = Vec::new();
-    let names = qoi_names(&spec.phases);
+    let names = statistic_names(&spec.phases);
     for name in names.iter().map(String::as_str) {
         let values = keep(read_f64(path, name)?);
         let described = distribution_rows(name, &values, &spec.plan);

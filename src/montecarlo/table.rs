@@ -101,6 +101,18 @@ pub const COUNTS: [Count; 3] = [
     ("tvs_cycles", |q| q.tvs_cycles),
 ];
 
+/// The [`COUNTS`] that `statistics.parquet` describes like a QoI (distribution, and the
+/// campaign's thresholds: P(relief_cycles > N) is a valve-life question). Null for a rejected or
+/// diverged instance like every QoI; 0 where the campaign has no relief valve or TVS.
+pub const COUNT_QOIS: [&str; 2] = ["relief_cycles", "tvs_cycles"];
+
+/// Every quantity `statistics.parquet` describes: [`qoi_names`], then [`COUNT_QOIS`].
+pub fn statistic_names(phases: &[String]) -> Vec<String> {
+    let mut names = qoi_names(phases);
+    names.extend(COUNT_QOIS.iter().map(|n| (*n).to_string()));
+    names
+}
+
 /// Boolean flags per instance: outcomes (cavitation, overpressure, the pressurant running out,
 /// the tank running dry) and validity (diverged, rejected).
 pub const FLAGS: [&str; 7] = [
