@@ -101,8 +101,8 @@ fn default_tolerances_agree_with_tighter_ones() {
             // Boil-off and vented mass are differences of masses of the propellant's size: they
             // agree to 1e-4 of themselves or to 1e-8 of the propellant (100× under the default
             // rtol), whichever is larger. The 27 kg LN2 destratification tank's homogeneous
-            // boil-off, −8.9e-6 kg, is such a difference: it moves by 3.3e-8 kg (1.2e-9 of the
-            // liquid) with the tolerances.
+            // boil-off, 7.1e-4 kg, is such a difference: it moves by 7.7e-8 kg (2.8e-9 of the
+            // liquid, 1.1e-4 of itself) with the tolerances.
             let s0 = initial_state(&load(name, &[]).params);
             let mass_floor = (1e-4 * (s0[M_V] + s0[M_S] + s0[M_B])).max(1e-5);
             let pairs = [

@@ -149,3 +149,34 @@ fn a_second_mode_wave_beyond_the_range_is_flagged() {
         "mode 2 beyond its range is not flagged"
     );
 }
+
+/// With the dry wall at the liquid's 78 K, below T_sat(250 kPa), the unshaken ullage cooled on it
+/// to 3 K below its saturation temperature (no condensation on the dry wall is modelled); the
+/// campaign's `tank.dry_wall_temperature_k = 100` starts it there, and the vapour stays
+/// superheated over the whole run, shaken at resonance or not.
+#[test]
+fn the_vapour_stays_superheated_over_the_warm_dry_wall() {
+    let f = Fluid::Ln2.props();
+    for amplitude in ["0", "0.0121995"] {
+        let c = load(
+            CAMPAIGN,
+            &[&format!("phases.shake.excitation.amplitude_m_s2={amplitude}")],
+        );
+        let mut h = cryoslosh::simulate::History::default();
+        let s = simulate(&c, &c.params, Some(&mut h));
+        assert!(!s.diverged);
+        let col = |n: &str| h.column(n).unwrap().to_vec();
+        let (t_u, p_v, t_wd) = (
+            col("ullage_temp_k"),
+            col("vapor_pressure_pa"),
+            col("wall_dry_temp_k"),
+        );
+        assert!((t_wd[0] - 100.0).abs() < 1e-9, "dry wall starts at {}", t_wd[0]);
+        for (i, (&t, &p)) in t_u.iter().zip(&p_v).enumerate() {
+            assert!(
+                p < f.psat_pa(t),
+                "amplitude {amplitude}, row {i}: P_v {p} Pa above P_sat(T_u = {t} K)"
+            );
+        }
+    }
+}

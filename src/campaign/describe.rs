@@ -220,9 +220,17 @@ pub fn describe(c: &Campaign) -> String {
         Some(_) => "heat_leak_w from [insulation]".to_string(),
         None => kv("heat_leak_w", p.heat_leak_w, "W"),
     };
+    let dry_wall = if is_set(c, "tank", "dry_wall_temperature_k") {
+        kv("dry_wall_temperature_k", p.dry_wall_temperature_k, "K")
+    } else {
+        format!(
+            "{} (the liquid temperature)",
+            kv("dry_wall_temperature_k", p.dry_wall_temperature_k, "K")
+        )
+    };
     let _ = writeln!(
         o,
-        "tank: shape {}, {}, {}, {}, {wall_cp}, {}",
+        "tank: shape {}, {}, {}, {}, {wall_cp}, {dry_wall}, {}",
         tank.shape().name(),
         size.join(", "),
         leak,

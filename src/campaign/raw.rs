@@ -61,6 +61,7 @@ pub struct RawTank {
     pub heat_leak_w: Option<f64>,
     pub wall_areal_mass_kg_per_m2: Option<f64>,
     pub wall_cp_j_per_kg_k: Option<f64>,
+    pub dry_wall_temperature_k: Option<f64>,
     pub meop_pa: f64,
 }
 

@@ -246,6 +246,16 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         &raw.stratification,
         (p0, t_liquid, t_ullage),
     )?;
+    // A pressurized tank's dry wall is warmer than its liquid; starting it at the liquid
+    // temperature under warm vapour above T_sat(P_v) leaves the vapour supersaturated, since no
+    // condensation on the dry wall is modelled (docs/PHYSICS.md 2.3).
+    let t_dry_wall = c.opt_range(
+        "tank.dry_wall_temperature_k",
+        t.dry_wall_temperature_k,
+        t_liquid,
+        t_liquid,
+        400.0,
+    )?;
     let wall_cp = c.opt_range(
         "tank.wall_cp_j_per_kg_k",
         t.wall_cp_j_per_kg_k,
@@ -459,6 +469,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         insulation,
         wall_areal_mass_kg_per_m2: wall_mass,
         wall_cp_j_per_kg_k: wall_cp,
+        dry_wall_temperature_k: t_dry_wall,
         meop_pa,
         fill_fraction: fill,
         liquid_temperature_k: t_liquid,

@@ -289,6 +289,9 @@ pub struct Params {
     pub wall_areal_mass_kg_per_m2: f64,
     /// Wall specific heat, J/(kg·K).
     pub wall_cp_j_per_kg_k: f64,
+    /// Initial temperature of the dry (ullage-side) wall node, K, in [liquid temperature, 400];
+    /// the wetted wall starts at the liquid temperature.
+    pub dry_wall_temperature_k: f64,
     /// Maximum expected operating pressure (overpressure flag), Pa.
     pub meop_pa: f64,
     /// Initial liquid volume / tank volume.

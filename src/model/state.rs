@@ -157,8 +157,8 @@ pub fn default_layer_temperature_k(fluid: Fluid, t_liquid_k: f64, p_vapor_pa: f6
 /// The initial state: liquid at `liquid_temperature_k` with its surface layer at
 /// `stratification.initial_temperature_k`; ullage at `ullage_temperature_k` holding helium at
 /// `ullage_helium_partial_pressure_pa` and real-gas vapour (CoolProp's density at T_u and its
-/// partial pressure, `fluids::vapor`) at the rest of `ullage_pressure_pa`; wall at the
-/// liquid temperature; vehicle at its initial flight state.
+/// partial pressure, `fluids::vapor`) at the rest of `ullage_pressure_pa`; wetted wall at the
+/// liquid temperature, dry wall at `dry_wall_temperature_k`; vehicle at its initial flight state.
 ///
 /// The `homogeneous` level is an equilibrium: it keeps the stated propellant (liquid + vapour)
 /// and helium masses, but its vapour is saturated at the liquid temperature whatever partial
@@ -215,7 +215,7 @@ pub fn initial_state(p: &Params) -> State {
     }
     let (_, wet) = initial_level(p);
     let m_wall = p.wall_mass_kg();
-    s[E_WD] = m_wall * (1.0 - wet) * p.wall_cp_j_per_kg_k * t_l;
+    s[E_WD] = m_wall * (1.0 - wet) * p.wall_cp_j_per_kg_k * p.dry_wall_temperature_k;
     s[E_WW] = m_wall * wet * p.wall_cp_j_per_kg_k * t_l;
     s[VEL] = p.vehicle.initial_velocity_m_s;
     s[ALT] = p.vehicle.initial_altitude_m;
