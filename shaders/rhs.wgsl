@@ -165,7 +165,9 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
         h_us = h_stable_interface(gas, x.a_ax, t_u - t_s, 0.5 * r_surf);
     }
     h_us += P.coupling_h * speed;
-    let q_us = h_us * a_i * (t_u - t_s);
+    // Ullage ↔ layer exchange, stable at any step (nodes.rs::rhs).
+    let z_us = dt * h_us * a_i * (1.0 / c_gas + 1.0 / (max((*s)[M_S], 1.0e-9) * fl_cp_l(t_s)));
+    let q_us = stiff_blend(z_us).x * h_us * a_i * (t_u - t_s);
     var h_sb0 = 0.0;
     if ((P.flags & FLAG_H_SB) != 0u) {
         h_sb0 = P.h_sb;

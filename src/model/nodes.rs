@@ -260,7 +260,11 @@ pub fn rhs<T: Real>(
         |h| h.h_us_w_per_m2_k,
         || thermal::h_stable_interface(&gas, x.a_ax, t_u - t_s, r_surf * 0.5),
     ) + enhancement * speed;
-    let q_us = h_us * a_i * (t_u - t_s);
+    // The ullage ↔ layer exchange relaxes at h_us A_i (1/C_u + 1/C_s): its step average keeps it
+    // stable at any step (coupling II at k_h = 1e6 under a resonant slosh gave z ≈ 6 in 0.01 s
+    // RK4 steps of the 43 L LN2 tank and diverged; `thermal::stiff_blend`).
+    let z_us = dt * h_us * a_i * (heat_cap.rdiv(1.0) + (s[M_S].max_c(1.0e-9) * layer.cp).rdiv(1.0));
+    let q_us = thermal::stiff_blend(z_us).0 * h_us * a_i * (t_u - t_s);
     // Stable (warm layer on top): conduction is carried by the layer's penetration growth, so the
     // base coefficient is 0 unless set. Unstable (a layer cooled below the bulk by evaporation
     // into helium): the dense layer overturns, Lloyd & Moran's unstable-plate correlation.
