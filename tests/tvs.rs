@@ -428,3 +428,34 @@ fn tvs_vented_mass_per_phase_adds_up_to_the_mission() {
         );
     }
 }
+
+/// An undersized TVS ran without a word: `check` now prints its cooling at full duty,
+/// ṁ_jt (h_g(T_jt) − h_l(T_l)), against the heat coming in and warns below it; with a tenth of
+/// the shipped J-T flow (41 W against 65 W) the pressure indeed climbs past the band.
+#[test]
+fn check_warns_of_a_tvs_that_cannot_hold_its_band() {
+    let text = |o: &std::process::Output| String::from_utf8_lossy(&o.stdout).into_owned();
+    let shipped = check(&[]);
+    assert!(text(&shipped).contains("cooling at full duty"));
+    assert!(!text(&shipped).contains("cannot hold its band"));
+    let small = check(&["tvs.jt_flow_kg_s=0.0001"]);
+    assert_eq!(small.status.code(), Some(0));
+    assert!(
+        text(&small).contains("cannot hold its band"),
+        "{}",
+        text(&small)
+    );
+    // Written here from the fits: 1e-4 kg/s × (h_g(T_jt) − h_l(T_l)) against 50 W + 15 W.
+    let c = coast(&["tvs.jt_flow_kg_s=0.0001"]);
+    let f = Fluid::Lh2.props();
+    let t = c.params.tvs.unwrap();
+    let h_g = f.h_l_j_per_kg(t.jt_temperature_k) + f.h_fg_j_per_kg(t.jt_temperature_k);
+    let cooling = 1e-4 * (h_g - f.h_l_j_per_kg(c.params.liquid_temperature_k));
+    assert!(cooling < c.params.heat_leak_w + t.pump_heat_w);
+    let q = simulate(&c, &c.params, None);
+    assert!(
+        q.peak_pressure_pa > t.band_upper_pa + 5_000.0,
+        "peak {} Pa",
+        q.peak_pressure_pa
+    );
+}

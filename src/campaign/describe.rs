@@ -468,6 +468,36 @@ pub fn describe(c: &Campaign) -> String {
             kv("pump_flow_m3_s", t.pump_flow_m3_s, "m³/s"),
             kv("pump_heat_w", t.pump_heat_w, "W"),
         );
+        // Per kilogram vented the liquid loses h_g(T_jt) − h_l(T_l) of heat (docs/PHYSICS.md
+        // 2.7): at full duty the TVS removes that times its flow. Below the heat coming in it
+        // runs without stopping and the pressure climbs past the band anyway.
+        let h_g = f.h_l_j_per_kg(t.jt_temperature_k) + f.h_fg_j_per_kg(t.jt_temperature_k);
+        let cooling_w = t.jt_flow_kg_s * (h_g - f.h_l_j_per_kg(p.liquid_temperature_k));
+        match p.insulation {
+            Some(_) => {
+                let _ = writeln!(
+                    o,
+                    "  derived: cooling at full duty {} W (compare with the [insulation] heat leak \
+                     and the {} W pump heat)",
+                    n(cooling_w),
+                    n(t.pump_heat_w)
+                );
+            }
+            None => {
+                let heat_in_w = p.heat_leak_w + t.pump_heat_w;
+                let short = if cooling_w < heat_in_w {
+                    "; warning: less than the heat coming in: the TVS cannot hold its band"
+                } else {
+                    ""
+                };
+                let _ = writeln!(
+                    o,
+                    "  derived: cooling at full duty {} W against {} W in (heat leak + pump heat){short}",
+                    n(cooling_w),
+                    n(heat_in_w)
+                );
+            }
+        }
     }
     let fd = &p.feed;
     let _ = writeln!(
