@@ -543,3 +543,33 @@ fn an_unknown_excitation_kind_and_a_table_beyond_range_are_refused() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// A 400 K dry wall over LH2 kept the default c_w, aluminium's 9.8 J/(kg·K) at 20.6 K, held 1/70 of
+/// its heat and fell to 36 K within 5 s: with the default c_w the dry wall may start only as warm
+/// as that constant stores 2/3 of aluminium's heat (26.1 K over the LH2 stage), and the refusal
+/// names the key that lifts the limit.
+#[test]
+fn a_warm_dry_wall_needs_a_wall_cp_for_it() {
+    let stage = campaign_path("lh2_upper_stage");
+    let stage = stage.to_str().unwrap();
+    let o = cryoslosh(&["check", stage, "--set", "tank.dry_wall_temperature_k=400"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("tank.dry_wall_temperature_k")
+            && e.contains("26.1]")
+            && e.contains("tank.wall_cp_j_per_kg_k"),
+        "{e}"
+    );
+    let at_limit = cryoslosh(&["check", stage, "--set", "tank.dry_wall_temperature_k=26.1"]);
+    assert_eq!(at_limit.status.code(), Some(0), "{}", stderr(&at_limit));
+    let with_cp = cryoslosh(&[
+        "check",
+        stage,
+        "--set",
+        "tank.dry_wall_temperature_k=400",
+        "--set",
+        "tank.wall_cp_j_per_kg_k=500",
+    ]);
+    assert_eq!(with_cp.status.code(), Some(0), "{}", stderr(&with_cp));
+}

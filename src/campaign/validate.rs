@@ -246,16 +246,6 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         &raw.stratification,
         (p0, t_liquid, t_ullage),
     )?;
-    // A pressurized tank's dry wall is warmer than its liquid; starting it at the liquid
-    // temperature under warm vapour above T_sat(P_v) leaves the vapour supersaturated, since no
-    // condensation on the dry wall is modelled (docs/PHYSICS.md 2.3).
-    let t_dry_wall = c.opt_range(
-        "tank.dry_wall_temperature_k",
-        t.dry_wall_temperature_k,
-        t_liquid,
-        t_liquid,
-        400.0,
-    )?;
     let wall_cp = c.opt_range(
         "tank.wall_cp_j_per_kg_k",
         t.wall_cp_j_per_kg_k,
@@ -263,6 +253,47 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         0.1,
         5000.0,
     )?;
+    // A pressurized tank's dry wall is warmer than its liquid; starting it at the liquid
+    // temperature under warm vapour above T_sat(P_v) leaves the vapour supersaturated, since no
+    // condensation on the dry wall is modelled (docs/PHYSICS.md 2.3). The wall's c_w is one
+    // constant: with the default aluminium one (at the liquid temperature) the dry wall may start
+    // only as warm as that constant still stores 2/3 of aluminium's heat (a 400 K dry wall over
+    // LH2 held 1/70 of it and fell to 36 K within 5 s).
+    let dry_wall_max_k = if t.wall_cp_j_per_kg_k.is_some() {
+        400.0
+    } else {
+        warm_wall_limit_k(t_liquid)
+    };
+    let t_dry_wall = c
+        .opt_range(
+            "tank.dry_wall_temperature_k",
+            t.dry_wall_temperature_k,
+            t_liquid,
+            t_liquid,
+            dry_wall_max_k,
+        )
+        .map_err(|e| match e {
+            CampaignError::Invalid {
+                file,
+                key,
+                value,
+                allowed,
+            } if t.dry_wall_temperature_k.is_some_and(|v| v > dry_wall_max_k) => {
+                CampaignError::Invalid {
+                    file,
+                    key,
+                    value,
+                    allowed: format!(
+                        "{allowed}: the wall's c_w stays at aluminium's {} J/(kg·K) of the liquid \
+                     temperature, which above {} K stores less than 2/3 of a warm wall's heat; \
+                     give tank.wall_cp_j_per_kg_k for the warm wall to start it warmer",
+                        (wall_cp * 10.0).round() / 10.0,
+                        (dry_wall_max_k * 10.0).floor() / 10.0
+                    ),
+                }
+            }
+            e => e,
+        })?;
 
     // Heat transfer, stratification, slosh.
     let h = &raw.heat_transfer;
@@ -528,6 +559,26 @@ fn aluminium_cp(t: f64) -> f64 {
     let i = T.partition_point(|&x| x <= t).clamp(1, 6);
     let w = (t.ln() - T[i - 1].ln()) / (T[i].ln() - T[i - 1].ln());
     (CP[i - 1].ln() * (1.0 - w) + CP[i].ln() * w).exp()
+}
+
+/// Highest initial dry-wall temperature, K (at most 400), at which the default wall c_w, aluminium
+/// 6061's at the liquid temperature `t_liquid_k`, still stores at least 2/3 of the heat
+/// ∫ c_al dT that aluminium holds between the two (trapezoids of 0.05 K over [`aluminium_cp`]).
+/// Rounded down to 0.1 K: 26.1 K over LH2 at 20.6 K, 142.2 K over LN2 at 78 K, 240 K over LOX
+/// at 96.8 K.
+fn warm_wall_limit_k(t_liquid_k: f64) -> f64 {
+    let c0 = aluminium_cp(t_liquid_k);
+    let step = 0.05;
+    let (mut t, mut heat) = (t_liquid_k, 0.0);
+    while t < 400.0 {
+        let next = (t + step).min(400.0);
+        heat += 0.5 * (aluminium_cp(t) + aluminium_cp(next)) * (next - t);
+        if c0 * (next - t_liquid_k) < heat * (2.0 / 3.0) {
+            return ((t * 10.0).floor() / 10.0).max(t_liquid_k);
+        }
+        t = next;
+    }
+    400.0
 }
 
 /// The `[campaign]` integrator settings.
