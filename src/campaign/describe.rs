@@ -473,19 +473,26 @@ pub fn describe(c: &Campaign) -> String {
         // runs without stopping and the pressure climbs past the band anyway.
         let h_g = f.h_l_j_per_kg(t.jt_temperature_k) + f.h_fg_j_per_kg(t.jt_temperature_k);
         let cooling_w = t.jt_flow_kg_s * (h_g - f.h_l_j_per_kg(p.liquid_temperature_k));
+        // A TVS that may run in no phase holds nothing and is not warned about.
+        let runs = c.phases.iter().any(|ph| ph.tvs);
         match p.insulation {
             Some(_) => {
+                let short = if runs && cooling_w < t.pump_heat_w {
+                    "; warning: less than the pump heat alone: the TVS cannot hold its band"
+                } else {
+                    ""
+                };
                 let _ = writeln!(
                     o,
                     "  derived: cooling at full duty {} W (compare with the [insulation] heat leak \
-                     and the {} W pump heat)",
+                     above and the {} W pump heat){short}",
                     n(cooling_w),
                     n(t.pump_heat_w)
                 );
             }
             None => {
                 let heat_in_w = p.heat_leak_w + t.pump_heat_w;
-                let short = if cooling_w < heat_in_w {
+                let short = if runs && cooling_w < heat_in_w {
                     "; warning: less than the heat coming in: the TVS cannot hold its band"
                 } else {
                     ""

@@ -216,7 +216,12 @@ fn check_quantity_in(c: &Campaign, key: &str, q: &str, names: &[String]) -> Resu
         key: key.to_string(),
         value: format!("{q:?}"),
         allowed: format!(
-            "a quantity column of instances.parquet: {}",
+            "a quantity of instances.parquet{}: {}",
+            if names.iter().any(|n| n == "relief_cycles") {
+                ""
+            } else {
+                " read as f64 (the counts relief_cycles and tvs_cycles take thresholds only)"
+            },
             names.join(", ")
         ),
     }))
