@@ -447,7 +447,11 @@ fn check_warns_of_a_tvs_that_cannot_hold_its_band() {
     );
     // A TVS that may run in no phase is not warned about.
     let off = check(&["tvs.jt_flow_kg_s=0.0001", "phases.0.tvs=false"]);
-    assert!(!text(&off).contains("cannot hold its band"), "{}", text(&off));
+    assert!(
+        !text(&off).contains("cannot hold its band"),
+        "{}",
+        text(&off)
+    );
     // Written here from the fits: 1e-4 kg/s × (h_g(T_jt) − h_l(T_l)) against 50 W + 15 W.
     let c = coast(&["tvs.jt_flow_kg_s=0.0001"]);
     let f = Fluid::Lh2.props();

@@ -66,6 +66,15 @@ fn is_set(c: &Campaign, section: &str, key: &str) -> bool {
     c.document.get(section).and_then(|s| s.get(key)).is_some()
 }
 
+/// `key value unit` of a `[tank]` key, followed by `(default)` where the campaign leaves it out.
+fn tank_kv(c: &Campaign, (key, value, unit): (&str, f64, &str), default: &str) -> String {
+    if is_set(c, "tank", key) {
+        kv(key, value, unit)
+    } else {
+        format!("{} ({default})", kv(key, value, unit))
+    }
+}
+
 /// The excitation of phase `i`: its `Display` form, with a table's file name from the document.
 fn excitation(c: &Campaign, i: usize, e: &Excitation) -> String {
     let text = e.to_string();
@@ -200,14 +209,11 @@ pub fn describe(c: &Campaign) -> String {
 
     // [tank]
     let tank = &p.tank;
-    let wall_cp = if is_set(c, "tank", "wall_cp_j_per_kg_k") {
-        kv("wall_cp_j_per_kg_k", p.wall_cp_j_per_kg_k, "J/(kg·K)")
-    } else {
-        format!(
-            "{} (aluminium 6061 at the liquid temperature)",
-            kv("wall_cp_j_per_kg_k", p.wall_cp_j_per_kg_k, "J/(kg·K)")
-        )
-    };
+    let wall_cp = tank_kv(
+        c,
+        ("wall_cp_j_per_kg_k", p.wall_cp_j_per_kg_k, "J/(kg·K)"),
+        "aluminium 6061 at the liquid temperature",
+    );
     // Only the shape's own keys: a sphere has no cylinder, a cylinder no domes.
     let mut size = vec![kv("radius_m", tank.radius_m(), "m")];
     if tank.shape() != Shape::Sphere {
@@ -220,14 +226,11 @@ pub fn describe(c: &Campaign) -> String {
         Some(_) => "heat_leak_w from [insulation]".to_string(),
         None => kv("heat_leak_w", p.heat_leak_w, "W"),
     };
-    let dry_wall = if is_set(c, "tank", "dry_wall_temperature_k") {
-        kv("dry_wall_temperature_k", p.dry_wall_temperature_k, "K")
-    } else {
-        format!(
-            "{} (the liquid temperature)",
-            kv("dry_wall_temperature_k", p.dry_wall_temperature_k, "K")
-        )
-    };
+    let dry_wall = tank_kv(
+        c,
+        ("dry_wall_temperature_k", p.dry_wall_temperature_k, "K"),
+        "the liquid temperature",
+    );
     let _ = writeln!(
         o,
         "tank: shape {}, {}, {}, {}, {wall_cp}, {dry_wall}, {}",
