@@ -484,7 +484,9 @@ class Model:
             self.closure(p, "h_us", lambda: self.h_stable_interface(gas, x["a_ax"], t_u - t_s, r_surf * 0.5))
             + enhancement * speed
         )
-        q_us = h_us * a_i * (t_u - t_s)
+        # nodes::rhs: the ullage-layer exchange takes the step average of stiff_blend.
+        z_us = dt * h_us * a_i * (1.0 / heat_cap + 1.0 / (xp.maximum(s[M_S], 1.0e-9) * layer["cp"]))
+        q_us = self.stiff_blend(z_us)[0] * h_us * a_i * (t_u - t_s)
         h_sb = (
             self.closure(p, "h_sb", lambda: zero)
             + self.h_unstable_interface(liq, x["a_ax"], t_b - t_s, r_surf * 0.5)
@@ -496,6 +498,13 @@ class Model:
         bulk_left = xp.clip(s[M_B] / ((s[M_B] + s[M_S]) * k["bulk_merge_fraction"] + 1.0e-9), 0.0, 1.0)
         m_strat = x["rho_layer"] * a_i * PI * alpha / (delta * 8.0) * bulk_left
         m_mix = p["mixing"] * s[M_S] * speed * bulk_left
+        # nodes::rhs: the layer-bulk exchange (mixing and Q_sb) as a two-node relaxation.
+        m_b = xp.maximum(s[M_B], 0.0)
+        z_x = dt * (m_mix + h_sb * a_i / liq["cp"]) * (
+            1.0 / xp.maximum(s[M_S], 1.0e-9) + 1.0 / xp.maximum(m_b, 1.0e-9)
+        )
+        damp = self.stiff_blend(z_x)[0]
+        q_sb = damp * q_sb
 
         b = self.boundary_flows(p, s, d, x)
         h_mass = h_us / (gas["rho"] * gas["cp"])
@@ -513,7 +522,7 @@ class Model:
 
         ds[M_G] = b["press"] - press_v - b["vent"] * (1.0 - y)
         ds[M_B] = -m_strat - out_b
-        mix_w = m_mix * (h_ls - h_lb)
+        mix_w = damp * m_mix * (h_ls - h_lb)
         f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb
         dh_b, dv_b = liquid_node_rates(pu, f_b, ds[M_B], bulk)
         ds[H_B] = dh_b
