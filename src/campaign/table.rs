@@ -8,10 +8,10 @@ use super::CampaignError;
 use crate::model::flight::Excitation;
 use std::path::Path;
 
-/// Read and check an excitation table, naming `key` and the line on any error.
 /// Largest |a_lat| and |a_ax| a table row may hold, m/s² (the amplitude range of the other kinds).
 const MAX_TABLE_ACCEL_M_S2: f64 = 1000.0;
 
+/// Read and check an excitation table, naming `key` and the line on any error.
 pub(super) fn read_excitation_table(
     c: &Checker,
     key: &str,
