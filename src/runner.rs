@@ -169,7 +169,22 @@ pub fn prepare(a: &RunArgs) -> Result<Prepared, RunnerError> {
             ))
         })?,
     };
-    let backend = select_backend(&a.backend, a.threads)?;
+    // The GPU backend does not run the `layered` level yet: `auto` takes the CPU for a campaign
+    // that uses it (in any variant), `gpu` refuses it as bad input.
+    let layered = c.params.fidelity == crate::model::params::Fidelity::Layered
+        || c.variant_campaigns()?
+            .iter()
+            .any(|v| v.params.fidelity == crate::model::params::Fidelity::Layered);
+    let backend = match (a.backend.as_str(), layered) {
+        ("auto", true) => select_backend("cpu", a.threads)?,
+        ("gpu", true) => {
+            return Err(RunnerError::BadInput(format!(
+                "--backend gpu: {}",
+                crate::gpu::engine::LAYERED_ON_CPU
+            )))
+        }
+        (name, _) => select_backend(name, a.threads)?,
+    };
     let until = match &a.until {
         None => None,
         Some(spec) => {

@@ -74,7 +74,7 @@ fn the_shipped_excitation_is_the_first_mode_at_a_tenth_of_a_millimetre() {
 #[test]
 fn the_pressure_drop_grows_toward_resonance_and_is_relaxation_alone_unshaken() {
     let p_sat_bulk = Fluid::Ln2.props().psat_pa(78.0);
-    for level in ["lumped", "two_mode"] {
+    for level in ["lumped", "two_mode", "layered"] {
         let still = shaken(level, 1.0, 0.0);
         // Unshaken: no slosh, so the couplings add nothing; what is left is the warm ullage
         // relaxing onto the liquid and the layer.
@@ -108,7 +108,7 @@ fn the_pressure_drop_grows_toward_resonance_and_is_relaxation_alone_unshaken() {
 
 #[test]
 fn the_pressure_drop_grows_with_the_wave_amplitude() {
-    for level in ["lumped", "two_mode"] {
+    for level in ["lumped", "two_mode", "layered"] {
         let small = shaken(level, 0.9, DISPLACEMENT_M);
         let large = shaken(level, 0.9, 2.0 * DISPLACEMENT_M);
         assert!(

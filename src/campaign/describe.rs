@@ -191,6 +191,20 @@ pub fn describe(c: &Campaign) -> String {
         c.path.display(),
         p.fidelity.name()
     );
+    if p.fidelity == Fidelity::Layered {
+        let l = &p.layered;
+        let w = crate::model::column::fractions(l);
+        let _ = writeln!(
+            o,
+            "  column: {} layers under the film, stretch {} (top layer {} %, bottom {} % of the \
+             column's mass), detrainment width {} K",
+            l.layers,
+            n(l.stretch),
+            n(100.0 * w[l.layers as usize - 1]),
+            n(100.0 * w[0]),
+            n(l.detrain_width_k)
+        );
+    }
     let mut run = vec![format!("integrator {}", st.integrator.name())];
     if st.integrator == super::Integrator::Dopri5 {
         run.push(kv("rtol", st.rtol, ""));

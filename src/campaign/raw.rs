@@ -14,6 +14,8 @@ pub struct RawCampaign {
     pub heat_transfer: RawHeatTransfer,
     #[serde(default)]
     pub stratification: RawStratification,
+    /// `[layered]`: the column of `campaign.fidelity = "layered"`.
+    pub layered: Option<RawLayered>,
     #[serde(default)]
     pub slosh: RawSlosh,
     pub pressurization: Option<RawPressurization>,
@@ -100,6 +102,14 @@ pub struct RawStratification {
     pub diffusivity_factor: Option<f64>,
     pub wall_heat_to_layer: Option<f64>,
     pub initial_temperature_k: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLayered {
+    pub layers: Option<u32>,
+    pub stretch: Option<f64>,
+    pub detrain_width_k: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]

@@ -110,21 +110,16 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         "homogeneous" => Fidelity::Homogeneous,
         "lumped" => Fidelity::Lumped,
         "two_mode" => Fidelity::TwoMode,
-        "layered" => {
-            return Err(c.err(
-                "campaign.fidelity",
-                "layered",
-                "homogeneous | lumped | two_mode (layered is not implemented yet)",
-            ))
-        }
+        "layered" => Fidelity::Layered,
         other => {
             return Err(c.err(
                 "campaign.fidelity",
                 other,
-                "homogeneous | lumped | two_mode",
+                "homogeneous | lumped | two_mode | layered",
             ))
         }
     };
+    let layered = layered(&c, raw.layered.as_ref(), fidelity)?;
     let dt_default = c.opt_range("campaign.dt_s", run.dt_s, 0.1, 1.0e-5, 3600.0)?;
     let stepping = stepping(&c, run)?;
     let output_interval_s = c.opt_range(
@@ -510,6 +505,7 @@ pub fn validate(raw: &RawCampaign, file: &Path, text: String) -> Result<Campaign
         heat_transfer,
         stratification,
         coupling,
+        layered,
         baffles,
         extra_damping,
         pressurization,
@@ -613,4 +609,52 @@ impl Checker<'_> {
     ) -> CampaignError {
         self.err(key, value, allowed)
     }
+}
+
+/// `[layered]`: the column's layer count and stretch (`model::column`); the section is refused at
+/// the other levels, where it would be ignored without a word.
+fn layered(
+    c: &Checker<'_>,
+    raw: Option<&super::raw::RawLayered>,
+    fidelity: Fidelity,
+) -> Result<Layered, CampaignError> {
+    if raw.is_some() && fidelity != Fidelity::Layered {
+        return Err(c.err(
+            "layered",
+            "a [layered] section",
+            format!(
+                "only with campaign.fidelity = \"layered\" (this campaign's is {})",
+                fidelity.name()
+            ),
+        ));
+    }
+    let raw = raw.cloned().unwrap_or_default();
+    let layers = raw.layers.unwrap_or(crate::model::column::DEFAULT_LAYERS);
+    let most = crate::model::state::NL_MAX as u32;
+    if !(1..=most).contains(&layers) {
+        return Err(c.err(
+            "layered.layers",
+            layers,
+            format!("an integer in [1, {most}]"),
+        ));
+    }
+    let stretch = c.opt_range(
+        "layered.stretch",
+        raw.stretch,
+        crate::model::column::DEFAULT_STRETCH,
+        1.0,
+        2.0,
+    )?;
+    let detrain_width_k = c.opt_range(
+        "layered.detrain_width_k",
+        raw.detrain_width_k,
+        crate::model::column::DETRAIN_WIDTH_K,
+        1.0e-6,
+        1.0,
+    )?;
+    Ok(Layered {
+        layers,
+        stretch,
+        detrain_width_k,
+    })
 }

@@ -2,20 +2,20 @@
 //! Rust definitions (state slots, flags, diverged reasons, physical constants, thresholds), so
 //! that the shaders never hold a copy that could drift.
 
-use super::params::{exc, fidelity_code, flag, phase_code, DIVERGED_REASONS};
+use super::params::{exc, fidelity_code, flag, phase_code, DEVICE_SLOTS, DIVERGED_REASONS};
 use crate::fluids::R_UNIVERSAL;
 use crate::model::flight::PhaseKind;
 use crate::model::flight::{EARTH_RADIUS_M, G0, P_SEA_LEVEL_PA, RHO_SEA_LEVEL, SCALE_HEIGHT_M};
 use crate::model::params::Fidelity;
 use crate::model::slosh::MIN_AXIAL_ACCEL;
-use crate::model::state::{self, NS};
+use crate::model::state;
 
 /// WGSL `const` declarations of every number the kernel shares with the CPU model.
 pub fn constants_wgsl() -> String {
-    // Spelled exactly as `gpu_struct!` spells `[f32; NS]`, so that naga sees one type.
-    let mut s = format!("alias St = array<f32, {NS}>;\n");
+    // Spelled exactly as `gpu_struct!` spells `[f32; DEVICE_SLOTS]`, so that naga sees one type.
+    let mut s = format!("alias St = array<f32, {DEVICE_SLOTS}>;\n");
     let mut u = |name: &str, v: u32| s += &format!("const {name}: u32 = {v}u;\n");
-    u("NS", NS as u32);
+    u("NS", DEVICE_SLOTS as u32);
     for (name, v) in [
         ("M_V", state::M_V),
         ("M_G", state::M_G),

@@ -8,7 +8,7 @@
 use super::context::{Gpu, GpuError};
 use super::params::{
     fluid_records, join, GpuControl, GpuParams, GpuPhase, GpuPhaseResult, GpuResult, Tables,
-    DIVERGED_REASONS,
+    DEVICE_SLOTS, DIVERGED_REASONS,
 };
 use super::props::{props_wgsl, GpuFluid, GpuGas};
 use crate::campaign::Integrator;
@@ -322,6 +322,10 @@ const ADAPTIVE_DISPATCHES_PER_ROUND: u64 = 32;
 /// steps collapse is declared diverged by the kernel long before).
 const MAX_ADAPTIVE_ATTEMPTS: u64 = 1 << 32;
 
+/// Why the GPU backend refuses the `layered` level.
+pub const LAYERED_ON_CPU: &str = "the layered level runs on the CPU backend only so far \
+     (--backend cpu; --backend auto takes the CPU for it)";
+
 /// Sample and resolve instance `i`; instances the kernel cannot take finish on the CPU.
 fn prepare(plan: &Plan, i: u64) -> Prepared {
     let c = plan.campaign;
@@ -349,7 +353,7 @@ fn summarize(
     phase_names: &[String],
 ) -> Summary {
     let mut s = [0.0; NS];
-    for (i, v) in s.iter_mut().enumerate() {
+    for (i, v) in s.iter_mut().enumerate().take(DEVICE_SLOTS) {
         *v = join(r.s_hi[i], r.s_lo[i]);
     }
     let f = f64::from;
@@ -476,6 +480,9 @@ impl Engine for GpuEngine {
 
     fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
         let c = plan.campaign;
+        if c.params.fidelity == Fidelity::Layered {
+            return Err(LAYERED_ON_CPU.to_string());
+        }
         let fixed = c.stepping.integrator == Integrator::Rk4;
         let first = range.start;
         let mut prepared: Vec<Prepared> = range.into_par_iter().map(|i| prepare(plan, i)).collect();

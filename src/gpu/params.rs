@@ -8,7 +8,11 @@ use crate::gpu::props::{GpuFluid, GpuGas, GpuTank};
 use crate::gpu_struct;
 use crate::model::flight::{Excitation, Phase, PhaseKind};
 use crate::model::params::{Fidelity, Params};
-use crate::model::state::{State, NS};
+use crate::model::state::State;
+
+/// The state slots the device carries: the leading `state::COL`, every level's but the `layered`
+/// column's, which the GPU backend does not run yet (`GpuEngine` refuses the level).
+pub const DEVICE_SLOTS: usize = crate::model::state::COL;
 
 pub use super::constants::constants_wgsl;
 
@@ -140,12 +144,12 @@ gpu_struct! {
         pub dry_mass_kg: f32,
         pub drag_area_m2: f32,
         pub lever_arm_m: f32,
-        pub s0_hi: [f32; NS],
-        pub s0_lo: [f32; NS],
+        pub s0_hi: [f32; DEVICE_SLOTS],
+        pub s0_lo: [f32; DEVICE_SLOTS],
         /// Error control (`campaign.rtol`; `campaign.atol` times each slot's reference scale,
         /// `simulate::adaptive::reference_scales`).
         pub rtol: f32,
-        pub atol: [f32; NS],
+        pub atol: [f32; DEVICE_SLOTS],
     }
 }
 
@@ -247,9 +251,9 @@ gpu_struct! {
         pub t_layer_k: f32,
         pub t_bulk_k: f32,
         pub p_ullage_pa: f32,
-        pub s_hi: [f32; NS],
-        pub s_lo: [f32; NS],
-        pub k1: [f32; NS],
+        pub s_hi: [f32; DEVICE_SLOTS],
+        pub s_lo: [f32; DEVICE_SLOTS],
+        pub k1: [f32; DEVICE_SLOTS],
     }
 }
 
@@ -307,6 +311,8 @@ pub(super) fn fidelity_code(f: Fidelity) -> u32 {
         Fidelity::Homogeneous => 0,
         Fidelity::Lumped => 1,
         Fidelity::TwoMode => 2,
+        // Never sent: `GpuEngine` refuses the level.
+        Fidelity::Layered => 3,
     }
 }
 
@@ -360,9 +366,9 @@ impl GpuParams {
         let psf =
             |g: fn(&crate::model::params::Pressurization) -> f64| ps.as_ref().map_or(0.0, g) as f32;
         let rlf = |g: fn(&crate::model::params::Relief) -> f64| rl.as_ref().map_or(0.0, g) as f32;
-        let mut s0_hi = [0.0; NS];
-        let mut s0_lo = [0.0; NS];
-        for i in 0..NS {
+        let mut s0_hi = [0.0; DEVICE_SLOTS];
+        let mut s0_lo = [0.0; DEVICE_SLOTS];
+        for i in 0..DEVICE_SLOTS {
             (s0_hi[i], s0_lo[i]) = split(s0[i]);
         }
         GpuParams {
@@ -434,7 +440,10 @@ impl GpuParams {
             s0_hi,
             s0_lo,
             rtol: rtol as f32,
-            atol: crate::simulate::adaptive::reference_scales(p, s0).map(|r| (r * atol) as f32),
+            atol: {
+                let scales = crate::simulate::adaptive::reference_scales(p, s0);
+                std::array::from_fn(|i| (scales[i] * atol) as f32)
+            },
         }
     }
 }

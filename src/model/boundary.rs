@@ -121,7 +121,7 @@ pub fn motion_rates<T: Real>(
             // Force of the pendulum on the tank: −m_1 (ẍ + a_lat) with x = L sin θ (MODEL.md §5).
             -sl.mass_kg[0] * (l * (acc * cos - w * w * sin) + d.a_lat)
         }
-        Fidelity::TwoMode => {
+        Fidelity::TwoMode | Fidelity::Layered => {
             let mut force = c(0.0);
             for (n, (q, qd)) in [(Q1, Q1D), (Q2, Q2D)].into_iter().enumerate() {
                 let (om, ze) = (sl.omega[n], sl.zeta[n]);
@@ -152,7 +152,7 @@ pub fn slosh_speed<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> T {
     match g.shared().fidelity {
         Fidelity::Homogeneous => c(0.0),
         Fidelity::Lumped => s[Q1D].abs(),
-        Fidelity::TwoMode => {
+        Fidelity::TwoMode | Fidelity::Layered => {
             s[Q1D].abs() / x.slosh.length_m[0] + s[Q2D].abs() / x.slosh.length_m[1]
         }
     }
@@ -161,7 +161,7 @@ pub fn slosh_speed<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> T {
 /// Rate of the slosh angle, rad/s, for the coupling-I work term.
 pub fn slosh_angle_rate<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> T {
     match g.shared().fidelity {
-        Fidelity::TwoMode => {
+        Fidelity::TwoMode | Fidelity::Layered => {
             let l = x.slosh.length_m[0];
             let r = s[Q1] / l;
             s[Q1D] / l / (r * r + 1.0)

@@ -152,8 +152,14 @@ pub struct SloshParams<T = f64> {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Derived<T = f64> {
     pub t_ullage_k: T,
+    /// Temperature of the liquid at the interface, K: the warm layer (`lumped`, `two_mode`), the
+    /// top layer (`layered`), the liquid (`homogeneous`).
     pub t_layer_k: T,
+    /// Temperature of the liquid at the outlet, K: the bulk, the bottom layer (`layered`).
     pub t_bulk_k: T,
+    /// Coldest and warmest liquid, K (every layer at `layered`): the validity check's range.
+    pub t_liquid_min_k: T,
+    pub t_liquid_max_k: T,
     pub t_wall_dry_k: T,
     pub t_wall_wet_k: T,
     pub rho_layer: T,
@@ -225,6 +231,8 @@ impl<T: Real> Derived<T> {
             t_ullage_k: self.t_ullage_k.lane(i),
             t_layer_k: self.t_layer_k.lane(i),
             t_bulk_k: self.t_bulk_k.lane(i),
+            t_liquid_min_k: self.t_liquid_min_k.lane(i),
+            t_liquid_max_k: self.t_liquid_max_k.lane(i),
             t_wall_dry_k: self.t_wall_dry_k.lane(i),
             t_wall_wet_k: self.t_wall_wet_k.lane(i),
             rho_layer: self.rho_layer.lane(i),
@@ -297,10 +305,22 @@ fn slosh_params<T: Real>(
 
 /// Derive temperatures, volumes and pressures from the state.
 pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
-    match g.shared().fidelity {
+    let mut out = match g.shared().fidelity {
         Fidelity::Homogeneous => super::homogeneous::derive(g, s, d),
         Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(g, s, d),
-    }
+        Fidelity::Layered => {
+            let prof = super::column::profile(g, s);
+            return super::column::derive_column(g, s, d, &prof);
+        }
+    };
+    liquid_range(&mut out);
+    out
+}
+
+/// The liquid's temperature range of a level with at most two liquid nodes.
+pub fn liquid_range<T: Real>(out: &mut Derived<T>) {
+    out.t_liquid_min_k = out.t_layer_k.min(out.t_bulk_k);
+    out.t_liquid_max_k = out.t_layer_k.max(out.t_bulk_k);
 }
 
 /// Wall temperatures from the wall energies and the wetted share.
@@ -365,10 +385,27 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T>
     out.v_bulk_m3 = s[M_B] / out.rho_bulk;
     out.m_liquid_kg = s[M_S] + s[M_B];
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
-    let tank = g.tank();
-    fill_level(g, &tank, &mut out, v_l);
     let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
-    motion(g, &tank, s, d, &mut out, nu);
+    finish_nodes(g, s, d, &mut out, v_l, nu);
+    out
+}
+
+/// What the node levels (`lumped`, `two_mode`, `layered`) derive alike once their liquid is
+/// known (`out`'s liquid fields, the liquid volume `v_l` m³, its kinematic viscosity `nu` m²/s
+/// at the outlet): level, flight and slosh, the ullage's volume, temperature and pressures, and
+/// the walls' temperatures.
+pub fn finish_nodes<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    d: &Drive<T>,
+    out: &mut Derived<T>,
+    v_l: T,
+    nu: T,
+) {
+    let fluid = g.shared().fluid;
+    let tank = g.tank();
+    fill_level(g, &tank, out, v_l);
+    motion(g, &tank, s, d, out, nu);
     let (v_tank, c_v): (T, T) = (
         g.get(|p| p.tank.volume_m3()),
         g.get(|p| p.coupling.volume_m3),
@@ -386,7 +423,6 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T>
     let (twd, tww) = wall_temperatures(g, s, out.wetted_share);
     out.t_wall_dry_k = twd;
     out.t_wall_wet_k = tww;
-    out
 }
 
 /// Iteration cap of [`ullage_temperature`]'s Newton solve (it needs 3–6).
@@ -437,9 +473,10 @@ pub fn ullage_temperature<T: Real>(
 
 /// Slosh angle, rad: the pendulum angle (`lumped`) or atan(x_1 / L_1) (`two_mode`).
 pub fn slosh_angle<T: Real>(g: Group<'_>, s: &State<T>, sl: &SloshParams<T>) -> T {
-    match g.shared().fidelity {
-        Fidelity::TwoMode => (s[Q1] / sl.length_m[0]).map(f64::atan),
-        _ => s[Q1],
+    if g.shared().fidelity.two_mode_slosh() {
+        (s[Q1] / sl.length_m[0]).map(f64::atan)
+    } else {
+        s[Q1]
     }
 }
 
@@ -448,8 +485,9 @@ pub fn slosh_angle<T: Real>(g: Group<'_>, s: &State<T>, sl: &SloshParams<T>) -> 
 /// shake at f2 of the 43 L LN2 tank swung x_2 to 0.036 m (~0.9 rad) unflagged while θ_1 stayed
 /// at 0.005 rad.
 pub fn mode2_angle<T: Real>(g: Group<'_>, s: &State<T>, sl: &SloshParams<T>) -> T {
-    match g.shared().fidelity {
-        Fidelity::TwoMode => (s[Q2].abs() / sl.length_m[1]).map(f64::atan),
-        _ => c(0.0),
+    if g.shared().fidelity.two_mode_slosh() {
+        (s[Q2].abs() / sl.length_m[1]).map(f64::atan)
+    } else {
+        c(0.0)
     }
 }

@@ -107,6 +107,7 @@ pub fn trial<T: Real>(
 ) -> Trial<T> {
     let mut k = [[T::default(); NS]; 7];
     k[0] = *k1;
+    let n = super::used_slots(g);
     let mut end_eval = None;
     for stage in 1..7 {
         let row = &A[stage - 1];
@@ -114,7 +115,7 @@ pub fn trial<T: Real>(
         for (j, kj) in k.iter().enumerate().take(stage) {
             let a = row[j];
             if a != 0.0 {
-                for (yi, &ki) in y.iter_mut().zip(kj) {
+                for (yi, &ki) in y[..n].iter_mut().zip(kj) {
                     *yi += h * a * ki;
                 }
             }
@@ -127,7 +128,7 @@ pub fn trial<T: Real>(
     }
     let (end, end_eval) = end_eval.expect("seven stages");
     let mut error = T::splat(0.0);
-    for i in 0..NS {
+    for i in 0..n {
         let mut e = T::splat(0.0);
         for (j, kj) in k.iter().enumerate() {
             if E[j] != 0.0 {

@@ -5,6 +5,8 @@
 //! group of instances in lockstep, each lane with its own [`Params`] (a [`Group`]).
 
 pub mod boundary;
+pub mod boundary_layer;
+pub mod column;
 pub mod derive;
 pub mod dopri;
 pub mod flight;
@@ -87,8 +89,18 @@ impl<T: Real> Evaluation<T> {
 
 /// Evaluate the right-hand side at state `s` under drive `d`; `dt` is the integrator's step.
 pub fn evaluate<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, dt: T) -> Evaluation<T> {
-    let x = derive::derive(g, s, d);
     let mut ds = [T::default(); NS];
+    if g.shared().fidelity == Fidelity::Layered {
+        let prof = column::profile(g, s);
+        let x = column::derive_column(g, s, d, &prof);
+        let fluxes = column::rhs(g, s, d, &x, &prof, dt, &mut ds);
+        return Evaluation {
+            derived: x,
+            fluxes,
+            rates: ds,
+        };
+    }
+    let x = derive::derive(g, s, d);
     let fluxes = match g.shared().fidelity {
         Fidelity::Homogeneous => {
             let b = homogeneous::rhs(g, s, d, &x, dt, &mut ds);
@@ -98,6 +110,7 @@ pub fn evaluate<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, dt: T) -> Eva
             }
         }
         Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(g, s, d, &x, dt, &mut ds),
+        Fidelity::Layered => unreachable!("evaluated above"),
     };
     Evaluation {
         derived: x,
@@ -122,20 +135,27 @@ pub fn rk4_step<T: Real>(
         Some(k) => *k,
         None => evaluate(g, s, &drive(t), dt).rates,
     };
+    let n = used_slots(g);
     let half = dt * 0.5;
-    let k2 = evaluate(g, &axpy(s, half, &k1), &drive(t + half), dt).rates;
-    let k3 = evaluate(g, &axpy(s, half, &k2), &drive(t + half), dt).rates;
-    let k4 = evaluate(g, &axpy(s, dt, &k3), &drive(t + dt), dt).rates;
+    let k2 = evaluate(g, &axpy(s, half, &k1, n), &drive(t + half), dt).rates;
+    let k3 = evaluate(g, &axpy(s, half, &k2, n), &drive(t + half), dt).rates;
+    let k4 = evaluate(g, &axpy(s, dt, &k3, n), &drive(t + dt), dt).rates;
     let w = dt / 6.0;
-    for i in 0..NS {
+    for i in 0..n {
         s[i] += w * (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]);
     }
 }
 
-/// s + a·k.
-fn axpy<T: Real>(s: &State<T>, a: T, k: &State<T>) -> State<T> {
+/// The state slots the group's level uses ([`state::slots_used`]); the rest stay 0.
+pub fn used_slots(g: Group<'_>) -> usize {
+    let p = g.shared();
+    state::slots_used(p.fidelity, p.layered.layers)
+}
+
+/// s + a·k over the first `n` slots.
+fn axpy<T: Real>(s: &State<T>, a: T, k: &State<T>, n: usize) -> State<T> {
     let mut out = *s;
-    for (o, &ki) in out.iter_mut().zip(k) {
+    for (o, &ki) in out[..n].iter_mut().zip(k) {
         *o += a * ki;
     }
     out
@@ -194,6 +214,11 @@ pub fn merge_empty_bulk(
     s[state::H_S] += s[state::H_B];
     s[state::M_B] = 0.0;
     s[state::H_B] = 0.0;
+    // The `layered` column's enthalpy goes with its mass (`model::column`).
+    for k in state::COL..state::NS {
+        s[state::H_S] += s[k];
+        s[k] = 0.0;
+    }
     true
 }
 

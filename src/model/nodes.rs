@@ -26,6 +26,9 @@ pub struct Fluxes<T = f64> {
     pub strat_kg_s: T,
     /// Layer ↔ bulk exchange by slosh mixing and the jet mixer, kg/s each way.
     pub mix_kg_s: T,
+    /// Liquid the wall boundary layer brings to the top of the column, kg/s (`layered`; 0 on
+    /// the other levels).
+    pub boundary_layer_kg_s: T,
     /// Heat from the wetted wall into the liquid, W.
     pub q_wall_liquid_w: T,
     /// Heat from the dry wall into the ullage, W.
@@ -45,6 +48,7 @@ impl<T: Real> Fluxes<T> {
             evap_relaxation_per_s: self.evap_relaxation_per_s.lane(i),
             strat_kg_s: self.strat_kg_s.lane(i),
             mix_kg_s: self.mix_kg_s.lane(i),
+            boundary_layer_kg_s: self.boundary_layer_kg_s.lane(i),
             q_wall_liquid_w: self.q_wall_liquid_w.lane(i),
             q_wall_ullage_w: self.q_wall_ullage_w.lane(i),
             q_ullage_layer_w: self.q_ullage_layer_w.lane(i),
@@ -131,7 +135,7 @@ pub(super) fn gas_props<T: Real>(
 
 /// A closure coefficient: the campaign's constant in every lane when it sets one (lanes agree
 /// on whether it does), else the correlation.
-fn closure<T: Real>(
+pub(super) fn closure<T: Real>(
     g: Group<'_>,
     pick: impl Fn(&super::params::HeatTransfer) -> Option<f64>,
     correlation: impl FnOnce() -> T,
@@ -170,7 +174,7 @@ pub(super) fn wall_coefficients<T: Real>(
 
 /// Enthalpy change of a liquid node whose own volume change does work P dV on the ullage:
 /// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² dh_l/dT). Returns (dH/dt, dV/dt).
-fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits<T>) -> (T, T) {
+pub(super) fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits<T>) -> (T, T) {
     let (rho, h) = (n.rho, n.h);
     let beta = -n.drho_dt / (rho * rho * n.dh_dt);
     let dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (p_pa * beta + 1.0);
@@ -396,6 +400,7 @@ pub fn rhs<T: Real>(
         evap_relaxation_per_s: evap_relaxation,
         strat_kg_s: m_strat,
         mix_kg_s: m_mix,
+        boundary_layer_kg_s: c(0.0),
         q_wall_liquid_w: q_wl,
         q_wall_ullage_w: q_wu,
         q_ullage_layer_w: q_us,
@@ -451,7 +456,7 @@ pub fn evaporation_driving<T: Real>(
 /// (evaporation and condensation carry different enthalpies), so J has a value on each side:
 /// ṁ = max(ṁ(J₊), 0) + min(ṁ(J₋), 0), continuous where the sign changes (the rate's zero
 /// depends on J once a ≠ w).
-fn implicit_evaporation<T: Real>(
+pub(super) fn implicit_evaporation<T: Real>(
     k: T,
     dp: T,
     dt: T,

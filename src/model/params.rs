@@ -15,6 +15,9 @@ pub enum Fidelity {
     Lumped,
     /// The lumped thermal nodes with two spring–mass–damper slosh modes.
     TwoMode,
+    /// A resolved liquid column of N layers with a wall boundary layer (`model::column`), and the
+    /// two-mode slosh analog.
+    Layered,
 }
 
 impl Fidelity {
@@ -24,8 +27,29 @@ impl Fidelity {
             Fidelity::Homogeneous => "homogeneous",
             Fidelity::Lumped => "lumped",
             Fidelity::TwoMode => "two_mode",
+            Fidelity::Layered => "layered",
         }
     }
+
+    /// Whether the level's slosh analog is the two spring–mass–damper modes (`two_mode`,
+    /// `layered`) rather than the pendulum (`lumped`) or none (`homogeneous`).
+    pub fn two_mode_slosh(self) -> bool {
+        matches!(self, Fidelity::TwoMode | Fidelity::Layered)
+    }
+}
+
+/// The liquid column of the `layered` level (`model::column`, docs/PHYSICS.md §4b).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Layered {
+    /// Number of layers N, in [1, `state::NL_MAX`].
+    pub layers: u32,
+    /// Ratio of each layer's mass to that of the layer above it, in [1, 2]: 1 is a uniform grid,
+    /// above 1 the cells are finer towards the interface, where the gradients are.
+    pub stretch: f64,
+    /// Width of the wall boundary layer's neutral-buoyancy detrainment, K, in [1e-6, 1]
+    /// (`column::DETRAIN_WIDTH_K` by default): a numerical smoothing, reported in the
+    /// sensitivity table of docs/VALIDATION.md.
+    pub detrain_width_k: f64,
 }
 
 /// Ring baffles (Miles 1958 damping, MODEL.md §5).
@@ -308,6 +332,8 @@ pub struct Params {
     pub heat_transfer: HeatTransfer,
     pub stratification: Stratification,
     pub coupling: Coupling,
+    /// The column of the `layered` level (read only there).
+    pub layered: Layered,
     pub baffles: Baffles,
     /// Additional slosh damping ratio (devices not modelled otherwise), –.
     pub extra_damping: f64,
@@ -345,6 +371,7 @@ impl Params {
     pub fn lane_compatible(&self, other: &Params) -> bool {
         let (a, b) = (&self.heat_transfer, &other.heat_transfer);
         self.fidelity == other.fidelity
+            && (self.fidelity != Fidelity::Layered || self.layered == other.layered)
             && self.fluid == other.fluid
             && self.tank.shape() == other.tank.shape()
             && self.pressurization.is_some() == other.pressurization.is_some()

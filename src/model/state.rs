@@ -16,13 +16,15 @@ pub const M_V: usize = 0;
 pub const M_G: usize = 1;
 /// Ullage internal energy, J (`lumped`/`two_mode`).
 pub const U_U: usize = 2;
-/// Stratified-layer mass, kg.
+/// Stratified-layer mass, kg (0 at `layered`).
 pub const M_S: usize = 3;
-/// Stratified-layer enthalpy m_s h_l(T_s), J.
+/// Stratified-layer enthalpy m_s h_l(T_s), J (0 at `layered`).
 pub const H_S: usize = 4;
-/// Bulk-liquid mass, kg (`homogeneous`: all propellant, liquid + vapour).
+/// Bulk-liquid mass, kg (`homogeneous`: all propellant, liquid + vapour; `layered`: all liquid,
+/// the column's layers holding fixed shares of it).
 pub const M_B: usize = 5;
-/// Bulk-liquid enthalpy, J (`homogeneous`: energy of all fluid incl. helium).
+/// Bulk-liquid enthalpy, J (`homogeneous`: energy of all fluid incl. helium; 0 at `layered`,
+/// whose enthalpies are the column's slots from [`COL`]).
 pub const H_B: usize = 6;
 /// Dry-wall energy m c_w T, J.
 pub const E_WD: usize = 7;
@@ -66,8 +68,23 @@ pub const E_WORK: usize = 24;
 pub const E_PUMP: usize = 25;
 /// Propellant vented by the thermodynamic vent system, kg (`model::tvs`).
 pub const VENT_TVS: usize = 26;
+/// First of the `layered` column's enthalpy slots, J: slot `COL + k` holds m_k h_l(T_k) of layer
+/// k, counted from the bottom (`model::column`); 0 at the other levels.
+pub const COL: usize = 27;
+/// Most layers a `layered` column may have (`layered.layers`): the state is one fixed-size array
+/// for every level, and the GPU kernels carry it per invocation (docs/GPU.md).
+pub const NL_MAX: usize = 32;
 /// Number of state slots.
-pub const NS: usize = 27;
+pub const NS: usize = COL + NL_MAX;
+
+/// The slots the level `fidelity` with `layers` column layers uses: the leading slots of the
+/// state; the integrators step only these.
+pub fn slots_used(fidelity: Fidelity, layers: u32) -> usize {
+    match fidelity {
+        Fidelity::Layered => COL + layers as usize,
+        _ => COL,
+    }
+}
 
 /// A state vector (one per lane group: slot by slot, each slot a lane vector).
 pub type State<T = f64> = [T; NS];
@@ -212,6 +229,13 @@ pub fn initial_state(p: &Params) -> State {
             s[M_B] = m_b;
             s[H_B] = m_b * f.h_l_j_per_kg(t_l);
         }
+        Fidelity::Layered => {
+            let u_v = f.vapor_ideal(t_u).0
+                + vapor_energy_offset(p.fluid)
+                + f.vapor_u_res_j_per_kg(t_u, m_v / v_u);
+            s[U_U] = m_v * u_v + m_g * HELIUM.cv_j_per_kg_k * t_u;
+            super::column::initial_column(p, &mut s);
+        }
     }
     let (_, wet) = initial_level(p);
     let m_wall = p.wall_mass_kg();
@@ -238,6 +262,6 @@ pub fn mass_invariant(s: &State) -> f64 {
 /// Internal energy of fluid and wall minus the net energy brought in across the boundary, J:
 /// constant to rounding (MODEL.md §10).
 pub fn energy_invariant(s: &State) -> f64 {
-    let inside = s[U_U] + s[H_S] + s[H_B] + s[E_WD] + s[E_WW];
+    let inside = s[U_U] + s[H_S] + s[H_B] + s[E_WD] + s[E_WW] + s[COL..].iter().sum::<f64>();
     inside - (s[E_ENV] + s[E_PRESS] - s[E_VENT] - s[E_OUT] + s[E_WORK] + s[E_PUMP])
 }

@@ -157,7 +157,7 @@ pub fn unmodelled(fidelity: Fidelity) -> &'static [&'static str] {
             "slosh_out_of_range_fraction",
             "slosh_out_of_range",
         ],
-        Fidelity::Lumped | Fidelity::TwoMode => &[],
+        Fidelity::Lumped | Fidelity::TwoMode | Fidelity::Layered => &[],
     }
 }
 

@@ -14,7 +14,7 @@ use super::{row, History, LaneRun};
 use crate::lanes::{Mask, Real};
 use crate::model::derive::{self, Derived, Drive};
 use crate::model::dopri::{self, Dense, Tolerance};
-use crate::model::params::{Fidelity, Params};
+use crate::model::params::Params;
 use crate::model::state::{self, *};
 use crate::model::{self, Evaluation, Group};
 
@@ -33,9 +33,10 @@ pub const MIN_STEP_FRACTION: f64 = 1.0e-12;
 pub fn reference_scales(p: &Params, s0: &State) -> State {
     let mass = (s0[M_V] + s0[M_G] + s0[M_S] + s0[M_B]).abs().max(1.0e-6);
     let energy = super::energy_scale(s0, s0).max(1.0);
-    let slosh = match p.fidelity {
-        Fidelity::TwoMode => p.tank.radius_m(),
-        _ => 1.0,
+    let slosh = if p.fidelity.two_mode_slosh() {
+        p.tank.radius_m()
+    } else {
+        1.0
     };
     let mut r = [energy; NS];
     for i in [M_V, M_G, M_S, M_B, VENT_V, VENT_G, OUT, PRESS_IN, VENT_TVS] {
@@ -93,10 +94,12 @@ impl LaneRun<'_> {
             || [Q1, Q1D, Q2, Q2D]
                 .iter()
                 .any(|&i| self.last_state[i] != 0.0);
-        let omega = self.last.derived.slosh.omega[0].max(match self.params.fidelity {
-            Fidelity::TwoMode => self.last.derived.slosh.omega[1],
-            _ => 0.0,
-        });
+        let omega =
+            self.last.derived.slosh.omega[0].max(if self.params.fidelity.two_mode_slosh() {
+                self.last.derived.slosh.omega[1]
+            } else {
+                0.0
+            });
         if excited && omega > 0.0 {
             h = h.min(std::f64::consts::TAU / omega / ADAPTIVE_STEPS_PER_PERIOD);
         }

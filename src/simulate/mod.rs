@@ -135,6 +135,7 @@ pub fn cavitation_margin(p: &Params, s: &State, x: &Derived) -> (f64, f64) {
 pub fn energy_scale(s0: &State, s: &State) -> f64 {
     [U_U, H_S, H_B, E_WD, E_WW]
         .iter()
+        .chain(&std::array::from_fn::<usize, NL_MAX, _>(|k| COL + k))
         .map(|&i| s0[i].abs())
         .sum::<f64>()
         + [E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK, E_PUMP]
@@ -167,6 +168,19 @@ fn check_state(p: &Params, s: &State, x: &Derived) -> Option<String> {
         ),
         ("dry wall temperature", x.t_wall_dry_k, 1.0, 2000.0),
         ("wetted wall temperature", x.t_wall_wet_k, 1.0, 2000.0),
+        // Every layer of the `layered` column (the film and the bottom are checked above).
+        (
+            "coldest liquid temperature",
+            x.t_liquid_min_k,
+            f.t_min_k - 2.0,
+            f.t_max_k + 2.0,
+        ),
+        (
+            "warmest liquid temperature",
+            x.t_liquid_max_k,
+            f.t_min_k - 2.0,
+            f.t_max_k + 2.0,
+        ),
     ];
     for (what, v, lo, hi) in checks {
         if !(v > lo && v < hi) {
@@ -204,7 +218,7 @@ pub fn initial_state(c: &Campaign, p: &Params) -> State {
     match p.fidelity {
         Fidelity::Homogeneous => {}
         Fidelity::Lumped => s[Q1] = th,
-        Fidelity::TwoMode => {
+        Fidelity::TwoMode | Fidelity::Layered => {
             let d = Drive::of_phase(&c.phases[0], 0.0, Default::default());
             let x = model::derive::derive(Group::one(p), &s, &d);
             s[Q1] = x.slosh.length_m[0] * th.tan();
@@ -218,13 +232,14 @@ fn row(p: &Params, t: f64, s: &State, ev: &Evaluation, d: &Drive) -> [f64; HISTO
     let x = &ev.derived;
     let f = p.fluid.props();
     let wall_share = x.wetted_share;
-    let (q1, q1d, q2) = match p.fidelity {
-        Fidelity::TwoMode => (
+    let (q1, q1d, q2) = if p.fidelity.two_mode_slosh() {
+        (
             slosh_angle(Group::one(p), s, &x.slosh),
             s[Q1D] / x.slosh.length_m[0],
             s[Q2],
-        ),
-        _ => (s[Q1], s[Q1D], 0.0),
+        )
+    } else {
+        (s[Q1], s[Q1D], 0.0)
     };
     let margin = if d.burning {
         cavitation_margin(p, s, x).0

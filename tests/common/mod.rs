@@ -21,8 +21,8 @@ pub const CAMPAIGNS: [&str; 7] = [
     "ln2_slosh_destratification",
 ];
 
-/// The physics levels implemented so far.
-pub const LEVELS: [&str; 3] = ["homogeneous", "lumped", "two_mode"];
+/// The physics levels (MODEL.md §1).
+pub const LEVELS: [&str; 4] = ["homogeneous", "lumped", "two_mode", "layered"];
 
 /// Path of a shipped campaign.
 pub fn campaign_path(name: &str) -> PathBuf {
