@@ -1,5 +1,5 @@
 //! The natural-convection boundary layer on the wetted wall of the `layered` level: how much
-//! liquid a heated vertical wall carries upward (docs/PHYSICS.md §4b).
+//! liquid a heated vertical wall carries upward (docs/PHYSICS.md 2.8).
 //!
 //! A wall warmer than the liquid drives a thin buoyant layer up along it; the liquid it entrains
 //! on the way and the wall heat it carries reach the layer where it stops being lighter than its

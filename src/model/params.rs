@@ -38,7 +38,7 @@ impl Fidelity {
     }
 }
 
-/// The liquid column of the `layered` level (`model::column`, docs/PHYSICS.md §4b).
+/// The liquid column of the `layered` level (`model::column`, docs/PHYSICS.md 2.8).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Layered {
     /// Number of layers N, in [1, `state::NL_MAX`].

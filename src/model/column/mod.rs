@@ -1,4 +1,4 @@
-//! The `layered` level (docs/PHYSICS.md §4b): the lumped levels' warm surface film over a
+//! The `layered` level (docs/PHYSICS.md 2.8): the lumped levels' warm surface film over a
 //! resolved column of N layers, each with its own temperature, under the same ullage, walls,
 //! two-mode slosh analog and boundary flows.
 //!
@@ -11,8 +11,8 @@
 //! top by `layered.stretch`), so their masses need no slots and a draining tank keeps its
 //! resolution. Mass leaves or enters where it physically does — the engine and the thermodynamic
 //! vent draw from the bottom layer, the film entrains the top one, the wall boundary layer takes
-//! liquid from the layers it passes and gives it to the layer where it stops rising (or to the
-//! film) — and the layer boundaries move with the liquid: the mass that must cross boundary k for
+//! liquid from the layers it passes and gives it to the layer where it stops rising (the top one
+//! at the latest) — and the layer boundaries move with the liquid: the mass that must cross boundary k for
 //! every layer to keep its share, F_k = Σ_{j≤k} (S_j − w_j ṁ_col), carries the upwind layer's
 //! enthalpy (a conservative first-order remap). Energy moves between neighbours by conduction
 //! (molecular, times `stratification.diffusivity_factor`), overturning where the lower layer is
