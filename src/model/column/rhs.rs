@@ -237,17 +237,22 @@ pub fn rhs<T: Real>(
         env.warming_dry_k_s,
     );
 
-    // The column's geometry: the top of each layer, the wall band each layer wets and the wall
-    // heat it takes (a uniform flux over the wetted wall); the film takes the band above the
-    // column.
+    // The column's geometry: the top of each layer, the wall's radius and the tank's section
+    // there, the wall band each layer wets and the wall heat it takes (a uniform flux over the
+    // wetted wall); the film takes the band above the column.
     let zero = [c::<T>(0.0); NL_MAX];
     let (mut z_top, mut perimeter, mut q_band) = (zero, zero, zero);
+    let (mut section, mut wall_radius) = (zero, zero);
+    let floor_area: T = g.get(|p| 1.0e-6 * p.tank.radius_m().powi(2));
     let wetted_total = tank.wetted_area_m2(x.level_m).max_c(1.0e-12);
     let (mut v_cum, mut below) = (c::<T>(0.0), c::<T>(0.0));
     for k in 0..n {
         v_cum += prof.v[k];
         z_top[k] = tank.liquid_height_m(v_cum);
-        perimeter[k] = tank.surface_radius_m(z_top[k]) * (2.0 * PI);
+        let radius_k = tank.surface_radius_m(z_top[k]);
+        perimeter[k] = radius_k * (2.0 * PI);
+        wall_radius[k] = radius_k.max_c(1.0e-3);
+        section[k] = tank.interface_area_m2(z_top[k]).max(floor_area);
         let wetted = tank.wetted_area_m2(z_top[k]);
         q_band[k] = q_wl * ((wetted - below).max_c(0.0) / wetted_total);
         below = wetted;
@@ -271,12 +276,6 @@ pub fn rhs<T: Real>(
     // Neighbour exchanges inside the column (`neighbour_exchange`).
     let factor: T = g.get(|p| p.stratification.diffusivity_factor);
     let mixing: T = g.get(|p| p.coupling.mixing);
-    let floor_area: T = g.get(|p| 1.0e-6 * p.tank.radius_m().powi(2));
-    let (mut section, mut wall_radius) = (zero, zero);
-    for k in 0..n {
-        section[k] = tank.interface_area_m2(z_top[k]).max(floor_area);
-        wall_radius[k] = tank.surface_radius_m(z_top[k]).max_c(1.0e-3);
-    }
     let exchange = Exchange {
         prof,
         z_top: &z_top,
