@@ -234,8 +234,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Check { campaign, set } => {
             let checked = runner::check(&campaign, &set)?;
             out!("{}", checked.text);
-            match checked.error {
-                Some(e) => Err(e.into()),
+            if let Some(e) = checked.error {
+                return Err(e.into());
+            }
+            match checked.nominal_diverged {
+                // A campaign whose nominal instance cannot be integrated fails the check, with
+                // `simulate`'s exit code 1.
+                Some(why) => Err(anyhow::anyhow!("the nominal instance diverged: {why}")),
                 None => Ok(()),
             }
         }

@@ -169,22 +169,7 @@ pub fn prepare(a: &RunArgs) -> Result<Prepared, RunnerError> {
             ))
         })?,
     };
-    // The GPU backend does not run the `layered` level yet: `auto` takes the CPU for a campaign
-    // that uses it (in any variant), `gpu` refuses it as bad input.
-    let layered = c.params.fidelity == crate::model::params::Fidelity::Layered
-        || c.variant_campaigns()?
-            .iter()
-            .any(|v| v.params.fidelity == crate::model::params::Fidelity::Layered);
-    let backend = match (a.backend.as_str(), layered) {
-        ("auto", true) => select_backend("cpu", a.threads)?,
-        ("gpu", true) => {
-            return Err(RunnerError::BadInput(format!(
-                "--backend gpu: {}",
-                crate::gpu::engine::LAYERED_ON_CPU
-            )))
-        }
-        (name, _) => select_backend(name, a.threads)?,
-    };
+    let backend = select_backend(&a.backend, a.threads)?;
     let until = match &a.until {
         None => None,
         Some(spec) => {
@@ -218,10 +203,12 @@ pub fn prepare(a: &RunArgs) -> Result<Prepared, RunnerError> {
 }
 
 /// What `cryoslosh check` prints, and the error it exits with after printing it (dispersions
-/// centred outside a field's allowed range).
+/// centred outside a field's allowed range), and why the nominal instance diverged (`check`
+/// then exits 1, as `simulate` does on it).
 pub struct Checked {
     pub text: String,
     pub error: Option<RunnerError>,
+    pub nominal_diverged: Option<String>,
 }
 
 /// `cryoslosh check`: validate the campaign and describe its resolved nominal, statistics, step
@@ -240,7 +227,8 @@ pub fn check(campaign: &std::path::Path, set: &[String]) -> Result<Checked, Runn
         &c.statistics,
         c.dispersions.group_size(),
     ));
-    text.push_str(&crate::simulate::plan::describe_step_plan(&c));
+    let (plan, nominal_diverged) = crate::simulate::plan::describe_step_plan(&c);
+    text.push_str(&plan);
     for (k, v) in c.variants.iter().enumerate() {
         let role = if k == 0 { " (baseline)" } else { "" };
         text.push_str(&format!("variant {}{role}: {}\n", v.name, v.describe()));
@@ -273,7 +261,11 @@ pub fn check(campaign: &std::path::Path, set: &[String]) -> Result<Checked, Runn
             campaign.display()
         ))
     });
-    Ok(Checked { text, error })
+    Ok(Checked {
+        text,
+        error,
+        nominal_diverged,
+    })
 }
 
 /// The sampled inputs of instance `i` of the dispersion campaign (`simulate --instance I`), in

@@ -84,6 +84,29 @@ fn coarse_fixed_step_is_refused_naming_the_key() {
     }
 }
 
+/// `check` on a campaign whose nominal instance leaves the model (a 1 MW heat leak boils the
+/// MHTB tank's liquid past its property range in 20 s) prints the plan, then fails with the
+/// reason and `simulate`'s exit code 1: it exited 0 after printing "DIVERGED" (found by a
+/// new-user attack), so a script gating on `check` passed a campaign that cannot run.
+#[test]
+fn check_fails_when_the_nominal_instance_diverges() {
+    let mhtb = campaign_path("mhtb_selfpress");
+    let o = cryoslosh(&[
+        "check",
+        mhtb.to_str().unwrap(),
+        "--set",
+        "tank.heat_leak_w=1e6",
+    ]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(out.contains("DIVERGED"), "{out}");
+    assert!(
+        stderr(&o).contains("the nominal instance diverged: layer temperature"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 /// `check` prints the step plan: steps per period and the nominal's measured cost.
 #[test]
 fn check_prints_the_step_plan() {

@@ -7,8 +7,9 @@ use crate::campaign::steps::{plan, MIN_STEPS_PER_PERIOD};
 use crate::campaign::{Campaign, Integrator};
 use std::fmt::Write;
 
-/// The step plan of campaign `c`, as text.
-pub fn describe_step_plan(c: &Campaign) -> String {
+/// The step plan of campaign `c`, as text, and why its nominal instance diverged (`None` when
+/// it did not).
+pub fn describe_step_plan(c: &Campaign) -> (String, Option<String>) {
     let st = &c.stepping;
     let mut o = String::new();
     let _ = match st.integrator {
@@ -72,5 +73,8 @@ pub fn describe_step_plan(c: &Campaign) -> String {
         q.rhs_evaluations,
         if q.diverged { " — DIVERGED" } else { "" }
     );
-    o
+    let why = q
+        .diverged
+        .then(|| q.diverged_reason.clone().unwrap_or_default());
+    (o, why)
 }
