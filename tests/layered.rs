@@ -272,6 +272,19 @@ fn layered_input_is_checked() {
         "layered.stretch",
         "[1, 2]",
     );
+    // Within [1, 2], but its top layer would hold 9.5e-7 of the column: the MHTB tank diverged
+    // at t = 2 s under RK4 (found by a new-user attack). The top layer keeps 1e-3 of the column
+    // (`column::MIN_TOP_LAYER_SHARE`): at most 1.3382 with 20 layers.
+    refused(
+        &[layered, "layered.stretch=2"],
+        "layered.stretch",
+        "at most 1.3382 with 20 layers",
+    );
+    assert!(Campaign::load(
+        &path,
+        &[layered.to_string(), "layered.stretch=1.3382".to_string()]
+    )
+    .is_ok());
     refused(
         &[layered, "layered.detrain_width_k=0"],
         "layered.detrain_width_k",

@@ -645,6 +645,20 @@ fn layered(
         1.0,
         2.0,
     )?;
+    let most_stretch = crate::model::column::max_stretch(layers, 2.0);
+    if stretch > most_stretch {
+        return Err(c.err(
+            "layered.stretch",
+            stretch,
+            format!(
+                "at most {:.4} with {layers} layers (the top layer's share of the column, \
+                 (s − 1)/(s^n − 1), at least {:e}: thinner layers resolve nothing the film does \
+                 not, and outrun fixed steps)",
+                (most_stretch * 1.0e4).floor() / 1.0e4,
+                crate::model::column::MIN_TOP_LAYER_SHARE
+            ),
+        ));
+    }
     let detrain_width_k = c.opt_range(
         "layered.detrain_width_k",
         raw.detrain_width_k,

@@ -37,6 +37,40 @@ pub const DEFAULT_LAYERS: u32 = 20;
 /// layer holds 1.0 % of the column and the bottom one 14 %.
 pub const DEFAULT_STRETCH: f64 = 1.15;
 
+/// Smallest share of the column's mass the top (thinnest) layer may hold: `campaign::validate`
+/// refuses a `layered.stretch` that makes it thinner. Thinner layers only refine what the film
+/// already resolves, and the boundary layer's flow through them (explicit, upwind) outruns fixed
+/// steps: the MHTB tank under 2 s RK4 steps diverged at top shares of 2.4e-5 and below (32
+/// layers at stretch 1.35; 16 at 2), under 60 s steps at 1e-4; at 1e-3 it ran under 2, 60 and
+/// 600 s steps, and every shipped campaign under its own.
+pub const MIN_TOP_LAYER_SHARE: f64 = 1.0e-3;
+
+/// The largest `layered.stretch` whose top layer keeps [`MIN_TOP_LAYER_SHARE`] with `layers`
+/// layers (bisection on the share, which falls as the stretch grows), at most `most`.
+pub fn max_stretch(layers: u32, most: f64) -> f64 {
+    let top = |stretch: f64| {
+        let n = (layers as usize).clamp(1, NL_MAX);
+        fractions(&Layered {
+            layers,
+            stretch,
+            detrain_width_k: DETRAIN_WIDTH_K,
+        })[n - 1]
+    };
+    if top(most) >= MIN_TOP_LAYER_SHARE {
+        return most;
+    }
+    let (mut lo, mut hi) = (1.0, most);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if top(mid) >= MIN_TOP_LAYER_SHARE {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// Default width, K, over which the boundary layer's detrainment into a layer goes from none
 /// (its mean temperature half of it above the layer over it) to all (half below):
 /// `layered.detrain_width_k`, a numerical smoothing of the neutral-buoyancy switch so that the
