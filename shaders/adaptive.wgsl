@@ -70,7 +70,7 @@ fn dp_max_step(ph: GpuPhase, t_phase: f32, hi: ptr<function, St>, omega: f32) ->
 
 /// The highest modelled slosh frequency of a derived state, rad/s.
 fn dp_omega(x: Derived) -> f32 {
-    if (P.fidelity == FID_TWO_MODE) {
+    if (two_mode_slosh()) {
         return max(x.sl.omega.x, x.sl.omega.y);
     }
     return x.sl.omega.x;
@@ -231,11 +231,6 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
         budget -= 1u;
         let ph = phases[base + ip];
         let t0 = r.t_phase_s;
-        if (!have_k1) {
-            K[0] = evaluate(&hi, phase_drive(ph, t0, valve), r.h_s).ds;
-            r.evaluations += 1u;
-            have_k1 = true;
-        }
         // The attempt: the proposal, bounded, cut at a corner or the phase end.
         var h = min(r.h_s, dp_max_step(ph, t0, &hi, r.omega_last));
         var landing = LAND_FREE;
@@ -253,20 +248,33 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             h = remaining;
             landing = LAND_PHASE_END;
         }
-        // Stages 2–7 (stage 7's state is the fifth-order end, its rates the next k1).
+        // Stages 1–7 (stage 1 only when k1 cannot be reused, evaluated at the proposal's step
+        // as the CPU does; stage 7's state is the fifth-order end, its rates the next k1), through
+        // one call site: NIR inlines every call, and the right-hand side is most of the kernel.
         var ev7: Eval;
         var y7: St;
-        for (var stage = 1u; stage < 7u; stage++) {
-            var y: St;
-            for (var j = 0u; j < NS; j++) {
-                var inc = 0.0;
-                for (var m = 0u; m < stage; m++) {
-                    inc += DP_A[stage - 1u][m] * K[m][j];
+        for (var stage = select(0u, 1u, have_k1); stage < 7u; stage++) {
+            var y = hi;
+            var t_stage = t0;
+            var h_eval = r.h_s;
+            if (stage > 0u) {
+                for (var j = 0u; j < NS; j++) {
+                    var inc = 0.0;
+                    for (var m = 0u; m < stage; m++) {
+                        inc += DP_A[stage - 1u][m] * K[m][j];
+                    }
+                    y[j] = hi[j] + h * inc;
                 }
-                y[j] = hi[j] + h * inc;
+                t_stage = t0 + DP_C[stage] * h;
+                h_eval = h;
             }
-            let ev = evaluate(&y, phase_drive(ph, t0 + DP_C[stage] * h, valve), h);
+            let ev = evaluate(&y, phase_drive(ph, t_stage, valve), h_eval);
             K[stage] = ev.ds;
+            if (stage == 0u) {
+                r.evaluations += 1u;
+                have_k1 = true;
+                continue;
+            }
             if (stage == 6u) {
                 ev7 = ev;
                 y7 = y;
@@ -406,12 +414,11 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             t_end = corner;
         }
         var d_end = phase_drive(ph, t_end, valve);
+        // The end state's evaluation: the fifth-order end's unless the step was cut or the bulk
+        // merged (one call site; a cut step whose bulk merged is evaluated once, merged).
         var ev_end = ev7;
-        if (cut) {
-            ev_end = evaluate(&hi, d_end, h);
-            r.evaluations += 1u;
-        }
-        if (merge_empty_bulk(&hi, &lo, hi_prev[M_B] + lo_prev[M_B], t_end - t0, BULK_MERGE_DRAIN_S)) {
+        let merged = merge_empty_bulk(&hi, &lo, hi_prev[M_B] + lo_prev[M_B], t_end - t0, BULK_MERGE_DRAIN_S);
+        if (cut || merged) {
             ev_end = evaluate(&hi, d_end, h);
             r.evaluations += 1u;
         }

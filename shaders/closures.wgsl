@@ -148,7 +148,7 @@ fn motion_rates(s: ptr<function, St>, d: Drive, x: Derived, ds: ptr<function, St
         (*ds)[Q1] = w;
         (*ds)[Q1D] = acc;
         force = -sl.mass.x * (l * (acc * cos(th) - w * w * sin(th)) + d.a_lat);
-    } else if (P.fidelity == FID_TWO_MODE) {
+    } else if (two_mode_slosh()) {
         let om = sl.omega;
         let acc1 = -om.x * om.x * (*s)[Q1] - 2.0 * sl.zeta * om.x * (*s)[Q1D] - d.a_lat;
         let acc2 = -om.y * om.y * (*s)[Q2] - 2.0 * sl.zeta * om.y * (*s)[Q2D] - d.a_lat;
@@ -173,14 +173,14 @@ fn slosh_speed(s: ptr<function, St>, x: Derived) -> f32 {
     if (P.fidelity == FID_LUMPED) {
         return abs((*s)[Q1D]);
     }
-    if (P.fidelity == FID_TWO_MODE) {
+    if (two_mode_slosh()) {
         return abs((*s)[Q1D]) / x.sl.length.x + abs((*s)[Q2D]) / x.sl.length.y;
     }
     return 0.0;
 }
 
 fn slosh_angle_rate(s: ptr<function, St>, x: Derived) -> f32 {
-    if (P.fidelity == FID_TWO_MODE) {
+    if (two_mode_slosh()) {
         let l = x.sl.length.x;
         let r = (*s)[Q1] / l;
         return (*s)[Q1D] / l / (1.0 + r * r);

@@ -26,6 +26,11 @@ struct Derived {
     mass: f32,
     drag: f32,
     sl: Slosh,
+    // LAYERED{
+    /// Coldest and warmest liquid (every layer of the column), K: the validity check's range.
+    t_lmin: f32,
+    t_lmax: f32,
+    // }LAYERED
 }
 
 fn wetted_fraction(z: f32) -> f32 {
@@ -91,8 +96,13 @@ fn motion(s: ptr<function, St>, d: Drive, x: ptr<function, Derived>, nu_liquid: 
     (*x).sl = slosh_params(v_l, (*x).m_l, (*x).level, a_total, nu_liquid);
 }
 
+/// The level carries the two-mode slosh analog (Fidelity::two_mode_slosh): two_mode, layered.
+fn two_mode_slosh() -> bool {
+    return P.fidelity == FID_TWO_MODE || P.fidelity == FID_LAYERED;
+}
+
 fn slosh_angle(s: ptr<function, St>, sl: Slosh) -> f32 {
-    if (P.fidelity == FID_TWO_MODE) {
+    if (two_mode_slosh()) {
         return atan((*s)[Q1] / sl.length.x);
     }
     return (*s)[Q1];
@@ -100,7 +110,7 @@ fn slosh_angle(s: ptr<function, St>, sl: Slosh) -> f32 {
 
 /// The second mode's equivalent angle atan(|x_2| / L_2) (derive::mode2_angle); 0 but two_mode.
 fn mode2_angle(s: ptr<function, St>, sl: Slosh) -> f32 {
-    if (P.fidelity == FID_TWO_MODE) {
+    if (two_mode_slosh()) {
         return atan(abs((*s)[Q2]) / sl.length.y);
     }
     return 0.0;
@@ -117,9 +127,17 @@ fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
     x.v_s = (*s)[M_S] / x.rho_s;
     x.v_b = (*s)[M_B] / x.rho_b;
     x.m_l = (*s)[M_S] + (*s)[M_B];
+    finish_nodes(s, d, &x, fl_mu_l(x.t_b) / x.rho_b);
+    return x;
+}
+
+/// What the node levels derive alike once their liquid is known (derive::finish_nodes): level,
+/// flight and slosh, the ullage's volume, temperature and pressures, the walls' temperatures.
+/// `nu`: the liquid's kinematic viscosity at the outlet, m²/s.
+fn finish_nodes(s: ptr<function, St>, d: Drive, xp: ptr<function, Derived>, nu: f32) {
+    var x = *xp;
     let v_l = x.v_s + x.v_b;
     fill_level(&x, v_l);
-    let nu = fl_mu_l(x.t_b) / x.rho_b;
     motion(s, d, &x, nu);
     x.v_u = tank_volume() - v_l + P.coupling_volume_m3 * sin(slosh_angle(s, x.sl));
     let rho_v = (*s)[M_V] / x.v_u;
@@ -130,7 +148,7 @@ fn derive_nodes(s: ptr<function, St>, d: Drive) -> Derived {
     let tw = wall_temperatures(s, x.wet);
     x.t_wd = tw.x;
     x.t_ww = tw.y;
-    return x;
+    *xp = x;
 }
 
 // Ullage temperature from its energy with real-gas vapour (derive.rs::ullage_temperature):
@@ -241,5 +259,10 @@ fn derive_state(s: ptr<function, St>, d: Drive) -> Derived {
     if (P.fidelity == FID_HOMOGENEOUS) {
         return derive_homogeneous(s, d);
     }
+    // LAYERED{
+    if (P.fidelity == FID_LAYERED) {
+        return derive_column(s, d);
+    }
+    // }LAYERED
     return derive_nodes(s, d);
 }

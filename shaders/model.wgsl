@@ -2,7 +2,8 @@
 // src/model/. This file: the bindings and per-invocation globals, the trajectory (flight.rs) and
 // the slosh analog's damping (slosh.rs; its modes are shaders/slosh_modes.wgsl in the property
 // library). Then derive.wgsl (derive.rs, homogeneous.rs), closures.wgsl
-// (thermal.rs, boundary.rs; insulation.wgsl before it: insulation.rs), rhs.wgsl (nodes.rs), observe.wgsl (model/mod.rs and the
+// (thermal.rs, boundary.rs; insulation.wgsl before it: insulation.rs), rhs.wgsl (nodes.rs), column.wgsl
+// (model/column/, the `layered` level's kernel only), observe.wgsl (model/mod.rs and the
 // observation in src/simulate/), and the stepping loop (rk4.wgsl or adaptive.wgsl). Change one,
 // change both; tests/gpu_parity.rs checks.
 //

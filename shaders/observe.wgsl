@@ -30,6 +30,10 @@ fn evaluate(s: ptr<function, St>, d: Drive, dt: f32) -> Eval {
     EVAP_RELAX = 0.0;
     if (P.fidelity == FID_HOMOGENEOUS) {
         ev.force = rhs_homogeneous(s, d, ev.x, dt, &ds);
+    // LAYERED{
+    } else if (P.fidelity == FID_LAYERED) {
+        ev.force = rhs_column(s, d, ev.x, dt, &ds);
+    // }LAYERED
     } else {
         ev.force = rhs_nodes(s, d, ev.x, dt, &ds);
     }
@@ -37,14 +41,6 @@ fn evaluate(s: ptr<function, St>, d: Drive, dt: f32) -> Eval {
     ev.evap = EVAP_RATE;
     ev.relax = EVAP_RELAX;
     return ev;
-}
-
-fn rates_at(s: ptr<function, St>, a: f32, k: ptr<function, St>, d: Drive, dt: f32) -> St {
-    var y: St;
-    for (var i = 0u; i < NS; i++) {
-        y[i] = (*s)[i] + a * (*k)[i];
-    }
-    return evaluate(&y, d, dt).ds;
 }
 
 fn not_finite(v: f32) -> bool {
@@ -66,6 +62,19 @@ fn check_state(s: ptr<function, St>, x: Derived) -> vec2<f32> {
             return vec2<f32>(f32(2u + i), v[i]);
         }
     }
+    // LAYERED{
+    // Every layer of the column (the film and the bottom are checked above).
+    if (P.fidelity == FID_LAYERED) {
+        let t_lo = FL.t_min_hi - 2.0;
+        let t_hi = FL.t_max + 2.0;
+        if (not_finite(x.t_lmin) || !(x.t_lmin > t_lo && x.t_lmin < t_hi)) {
+            return vec2<f32>(12.0, x.t_lmin);
+        }
+        if (not_finite(x.t_lmax) || !(x.t_lmax > t_lo && x.t_lmax < t_hi)) {
+            return vec2<f32>(13.0, x.t_lmax);
+        }
+    }
+    // }LAYERED
     let scale = 1.0e-9 * max(abs((*s)[M_B] + (*s)[M_S]), 1.0);
     if ((*s)[M_V] < -scale) {
         return vec2<f32>(9.0, (*s)[M_V]);
@@ -221,6 +230,12 @@ fn merge_empty_bulk(hi: ptr<function, St>, lo: ptr<function, St>, m_b_before: f3
     }
     absorb(hi, lo, M_S, M_B);
     absorb(hi, lo, H_S, H_B);
+    // LAYERED{
+    // The column's enthalpy goes with its mass.
+    for (var j = COL; j < NS; j++) {
+        absorb(hi, lo, H_S, j);
+    }
+    // }LAYERED
     return true;
 }
 
@@ -336,12 +351,16 @@ fn start_instance(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<fu
     (*r).peak_pressure_pa = -3.4e38;
     (*r).min_pressure_pa = 3.4e38;
     // A TVS whose band the initial pressure already reaches runs from the start.
+    // (One evaluation call site: NIR inlines every call.)
     TVS_ON = false;
-    var d0 = phase_drive(phases[base], 0.0, false);
-    var ev0 = evaluate(hi, d0, dt);
-    if (switch_tvs(r, phases[base], ev0.x.p_u)) {
+    var d0: Drive;
+    var ev0: Eval;
+    for (var tries = 0u; tries < 2u; tries++) {
         d0 = phase_drive(phases[base], 0.0, false);
         ev0 = evaluate(hi, d0, dt);
+        if (tries == 1u || !switch_tvs(r, phases[base], ev0.x.p_u)) {
+            break;
+        }
     }
     (*r).m_vapor0_kg = ev0.x.m_v;
     (*r).m_liquid0_kg = ev0.x.m_l;

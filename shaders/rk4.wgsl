@@ -62,31 +62,67 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         let dt = ph.dt;
         let tp = f32(k) * dt;
-        let dm = phase_drive(ph, tp + 0.5 * dt, valve);
-        if (!have_k1) {
-            k1 = evaluate(&hi, phase_drive(ph, tp, valve), dt).ds;
-        }
         let hi_prev = hi;
         let lo_prev = lo;
-        k2 = rates_at(&hi, 0.5 * dt, &k1, dm, dt);
-        k3 = rates_at(&hi, 0.5 * dt, &k2, dm, dt);
-        k4 = rates_at(&hi, dt, &k3, phase_drive(ph, tp + dt, valve), dt);
-        for (var j = 0u; j < NS; j++) {
-            // Kahan: the value is hi + lo; lo keeps what the f32 hi word could not take.
-            let inc = dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) + lo[j];
-            let sum = (hi[j] + inc) * control.one;
-            lo[j] = inc - (sum - hi[j]);
-            hi[j] = sum;
+        // The four stages (k1 only when it cannot be reused) and the evaluation at the step's
+        // end, through one call site: NIR inlines every call, and the right-hand side is most of
+        // the kernel (eight call sites made the `layered` kernel's cold compile take minutes).
+        var merged = false;
+        var tn = tp;
+        var d: Drive;
+        var ev: Eval;
+        for (var stage = select(0u, 1u, have_k1); stage < 5u; stage++) {
+            var y = hi;
+            var at = tp;
+            if (stage == 4u) {
+                for (var j = 0u; j < NS; j++) {
+                    // Kahan: the value is hi + lo; lo keeps what the f32 hi word could not take.
+                    let inc = dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) + lo[j];
+                    let sum = (hi[j] + inc) * control.one;
+                    lo[j] = inc - (sum - hi[j]);
+                    hi[j] = sum;
+                }
+                merged = merge_empty_bulk(&hi, &lo, hi_prev[M_B] + lo_prev[M_B], dt, max(BULK_MERGE_DRAIN_S, 2.0 * dt));
+                r.steps += 1u;
+                budget -= 1u;
+                k += 1u;
+                tn = f32(k) * dt;
+                at = tn;
+                y = hi;
+            } else if (stage > 0u) {
+                // k2, k3 at half a step along k1, k2; k4 at a whole step along k3.
+                var kp = k3;
+                if (stage == 1u) {
+                    kp = k1;
+                } else if (stage == 2u) {
+                    kp = k2;
+                }
+                let a = select(0.5 * dt, dt, stage == 3u);
+                at = tp + a;
+                for (var j = 0u; j < NS; j++) {
+                    y[j] = hi[j] + a * kp[j];
+                }
+            }
+            d = phase_drive(ph, at, valve);
+            ev = evaluate(&y, d, dt);
+            switch stage {
+                case 0u: {
+                    k1 = ev.ds;
+                }
+                case 1u: {
+                    k2 = ev.ds;
+                }
+                case 2u: {
+                    k3 = ev.ds;
+                }
+                case 3u: {
+                    k4 = ev.ds;
+                }
+                default: {}
+            }
         }
-        let merged = merge_empty_bulk(&hi, &lo, hi_prev[M_B] + lo_prev[M_B], dt, max(BULK_MERGE_DRAIN_S, 2.0 * dt));
-        r.steps += 1u;
-        budget -= 1u;
-        k += 1u;
-        let tn = f32(k) * dt;
         let t = r.phase_start_s + tn;
         r.final_time_s = t;
-        let d = phase_drive(ph, tn, valve);
-        let ev = evaluate(&hi, d, dt);
         let bad = check_state(&hi, ev.x);
         let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
         let th = outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, bad, k1[M_S] + k1[M_B]);

@@ -129,7 +129,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     out[3u * i + 2u] = mli_flux(k, 293.0, c.t_wall).x;
 }}
 ",
-        consts = cryoslosh::gpu::params::constants_wgsl(),
+        consts = cryoslosh::gpu::params::constants_wgsl(false),
         ins = include_str!("../shaders/insulation.wgsl"),
         case = InsCase::wgsl(),
     );

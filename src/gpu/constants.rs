@@ -2,7 +2,7 @@
 //! Rust definitions (state slots, flags, diverged reasons, physical constants, thresholds), so
 //! that the shaders never hold a copy that could drift.
 
-use super::params::{exc, fidelity_code, flag, phase_code, DEVICE_SLOTS, DIVERGED_REASONS};
+use super::params::{exc, fidelity_code, flag, kernel_slots, phase_code, DIVERGED_REASONS};
 use crate::fluids::R_UNIVERSAL;
 use crate::model::flight::PhaseKind;
 use crate::model::flight::{EARTH_RADIUS_M, G0, P_SEA_LEVEL_PA, RHO_SEA_LEVEL, SCALE_HEIGHT_M};
@@ -10,12 +10,15 @@ use crate::model::params::Fidelity;
 use crate::model::slosh::MIN_AXIAL_ACCEL;
 use crate::model::state;
 
-/// WGSL `const` declarations of every number the kernel shares with the CPU model.
-pub fn constants_wgsl() -> String {
-    // Spelled exactly as `gpu_struct!` spells `[f32; DEVICE_SLOTS]`, so that naga sees one type.
-    let mut s = format!("alias St = array<f32, {DEVICE_SLOTS}>;\n");
+/// WGSL `const` declarations of every number the kernel shares with the CPU model, for the
+/// kernel of the `layered` level (its state type St holds the column's slots) or of the others.
+pub fn constants_wgsl(layered: bool) -> String {
+    let slots = kernel_slots(layered);
+    let mut s = format!("alias St = array<f32, {slots}>;\n");
     let mut u = |name: &str, v: u32| s += &format!("const {name}: u32 = {v}u;\n");
-    u("NS", DEVICE_SLOTS as u32);
+    u("NS", slots as u32);
+    u("COL", state::COL as u32);
+    u("NL_MAX", state::NL_MAX as u32);
     for (name, v) in [
         ("M_V", state::M_V),
         ("M_G", state::M_G),
@@ -82,6 +85,7 @@ pub fn constants_wgsl() -> String {
         ("FID_HOMOGENEOUS", fidelity_code(Fidelity::Homogeneous)),
         ("FID_LUMPED", fidelity_code(Fidelity::Lumped)),
         ("FID_TWO_MODE", fidelity_code(Fidelity::TwoMode)),
+        ("FID_LAYERED", fidelity_code(Fidelity::Layered)),
         ("PHASE_HOLD", phase_code(PhaseKind::Hold)),
         ("PHASE_BURN", phase_code(PhaseKind::Burn)),
         ("PHASE_COAST", phase_code(PhaseKind::Coast)),
@@ -136,6 +140,22 @@ pub fn constants_wgsl() -> String {
         (
             "MLI_GAS_EXPONENT",
             crate::model::insulation::MLI_GAS_EXPONENT,
+        ),
+        (
+            "SLOSH_WAVENUMBER_RADIUS",
+            crate::model::column::SLOSH_WAVENUMBER_RADIUS,
+        ),
+        (
+            "SLOSH_WAVENUMBER_RADIUS_2",
+            crate::model::column::SLOSH_WAVENUMBER_RADIUS_2,
+        ),
+        (
+            "BL_LAMINAR_COEFFICIENT",
+            crate::model::boundary_layer::LAMINAR_COEFFICIENT,
+        ),
+        (
+            "BL_TURBULENT_COEFFICIENT",
+            crate::model::boundary_layer::TURBULENT_COEFFICIENT,
         ),
     ] {
         s += &format!("const {name}: f32 = {v:e};\n");

@@ -31,13 +31,22 @@ const WORKGROUP: u32 = 64;
 /// `observe.wgsl`), then the stepping loop (`shaders/rk4.wgsl` with entry
 /// point `main`, or `shaders/adaptive.wgsl` with `main_dopri5`). One module per integrator: a
 /// driver that compiles the whole module for each entry point (llvmpipe) pays for one loop only.
-pub fn kernel_source(integrator: Integrator) -> String {
+///
+/// `layered`: the kernel that also runs the `layered` level, with `shaders/column.wgsl` and the
+/// column's slots in its state type; the others leave out every block between `// LAYERED{` and
+/// `// }LAYERED` lines, so that the lumped levels carry no column in their registers.
+pub fn kernel_source(integrator: Integrator, layered: bool) -> String {
     let stepping = match integrator {
         Integrator::Rk4 => include_str!("../../shaders/rk4.wgsl"),
         Integrator::Dopri5 => include_str!("../../shaders/adaptive.wgsl"),
     };
-    [
-        super::params::constants_wgsl(),
+    let column = if layered {
+        include_str!("../../shaders/column.wgsl")
+    } else {
+        ""
+    };
+    let text = [
+        super::params::constants_wgsl(layered),
         props_wgsl(),
         GpuParams::wgsl(),
         GpuPhase::wgsl(),
@@ -49,29 +58,54 @@ pub fn kernel_source(integrator: Integrator) -> String {
         include_str!("../../shaders/insulation.wgsl").to_string(),
         include_str!("../../shaders/closures.wgsl").to_string(),
         include_str!("../../shaders/rhs.wgsl").to_string(),
+        column.to_string(),
         include_str!("../../shaders/observe.wgsl").to_string(),
         stepping.to_string(),
     ]
-    .join("\n")
+    .join("\n");
+    if layered {
+        return text;
+    }
+    let mut out = String::with_capacity(text.len());
+    let mut inside = false;
+    for line in text.lines() {
+        let marker = line.trim_start();
+        if marker.starts_with("// LAYERED{") {
+            inside = true;
+        } else if marker.starts_with("// }LAYERED") {
+            inside = false;
+        } else if !inside {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out
 }
+
+/// A kernel compiled on first use, or why it failed.
+type LazyKernel = std::sync::OnceLock<Result<wgpu::ComputePipeline, String>>;
 
 /// Integrates instances with the WGSL kernel.
 pub struct GpuEngine {
     gpu: Gpu,
-    /// Fixed-step RK4, compiled with the engine; Dormand–Prince 5(4), compiled on first use.
+    /// Fixed-step RK4 for the lumped levels, compiled with the engine; the others (Dormand–Prince
+    /// 5(4); the `layered` level's RK4 and Dormand–Prince) compiled on first use.
     rk4: wgpu::ComputePipeline,
-    dopri5: std::sync::OnceLock<Result<wgpu::ComputePipeline, String>>,
+    dopri5: LazyKernel,
+    rk4_layered: LazyKernel,
+    dopri5_layered: LazyKernel,
 }
 
-/// Compile the kernel for `integrator` on `device`.
+/// Compile the kernel for `integrator` (and the `layered` level: [`kernel_source`]) on `device`.
 fn compile(
     device: &wgpu::Device,
     integrator: Integrator,
+    layered: bool,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("cryoslosh model"),
-        source: wgpu::ShaderSource::Wgsl(kernel_source(integrator).into()),
+        source: wgpu::ShaderSource::Wgsl(kernel_source(integrator, layered).into()),
     });
     let entry = match integrator {
         Integrator::Rk4 => "main",
@@ -112,11 +146,13 @@ struct DeviceInstance {
 impl GpuEngine {
     /// Compile the RK4 kernel on `gpu` (the error-controlled one on first use).
     pub fn new(gpu: Gpu) -> Result<GpuEngine, GpuError> {
-        let rk4 = compile(&gpu.device, Integrator::Rk4)?;
+        let rk4 = compile(&gpu.device, Integrator::Rk4, false)?;
         Ok(GpuEngine {
             gpu,
             rk4,
-            dopri5: std::sync::OnceLock::new(),
+            dopri5: LazyKernel::new(),
+            rk4_layered: LazyKernel::new(),
+            dopri5_layered: LazyKernel::new(),
         })
     }
 
@@ -125,15 +161,18 @@ impl GpuEngine {
         &self.gpu.info
     }
 
-    /// Steps per instance per dispatch: llvmpipe caps an invocation at 65,535 loop iterations
-    /// in all (about 120 per lumped step, up to ~170 with the ullage temperature Newton), hardware only needs dispatches short enough for a
-    /// display watchdog.
-    fn step_budget(&self) -> u32 {
-        if self.gpu.info.hardware {
-            1024
-        } else {
-            128
+    /// RK4 steps per instance per dispatch: llvmpipe caps an invocation at 65,535 loop
+    /// iterations in all (about 120 per lumped step, up to ~170 with the ullage temperature
+    /// Newton), hardware only needs dispatches short enough for a display watchdog. A `layered`
+    /// column of `layers` layers (0: another level) adds about 350 iterations per step for its
+    /// wider state and 50 per layer for its passes (five evaluations of about ten loops over the
+    /// layers), so its budget shrinks in proportion (14 steps at 20 layers on llvmpipe).
+    fn step_budget(&self, layers: u32) -> u32 {
+        let base = if self.gpu.info.hardware { 1024 } else { 128 };
+        if layers == 0 {
+            return base;
         }
+        (base * LUMPED_LOOPS_PER_STEP / (LUMPED_LOOPS_PER_STEP + 350 + 50 * layers)).max(1)
     }
 
     /// Largest batch of `n_phases`-phase instances one dispatch may hold.
@@ -160,9 +199,14 @@ impl GpuEngine {
     /// Integrate prepared device instances; results in the same order, and the phase records
     /// (instance × phase, like `phases`). `fixed_steps`: the most steps of any instance under
     /// RK4; `None` integrates with error control, in rounds of dispatches until every instance
-    /// is done.
+    /// is done. `layers`: the `layered` level's layer count (its kernel), 0 for the others.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "one upload's buffers and its kernel choice"
+    )]
     fn dispatch(
         &self,
+        layers: u32,
         fluid: &GpuFluid,
         gas: &GpuGas,
         params: &[GpuParams],
@@ -192,17 +236,27 @@ impl GpuEngine {
         // state's slots, the error norm, the dense output, the probe), fourteen times an RK4
         // step: an eighth of RK4's budget keeps llvmpipe's 65,535 well away.
         let budget = if fixed_steps.is_some() {
-            self.step_budget()
+            self.step_budget(layers)
         } else {
-            (self.step_budget() / 8).max(1)
+            (self.step_budget(layers) / 8).max(1)
         };
-        let pipeline = if fixed_steps.is_some() {
-            &self.rk4
+        let integrator = if fixed_steps.is_some() {
+            Integrator::Rk4
         } else {
-            self.dopri5
-                .get_or_init(|| compile(device, Integrator::Dopri5).map_err(|e| e.to_string()))
+            Integrator::Dopri5
+        };
+        let lazy = match (integrator, layers > 0) {
+            (Integrator::Rk4, false) => None,
+            (Integrator::Dopri5, false) => Some(&self.dopri5),
+            (Integrator::Rk4, true) => Some(&self.rk4_layered),
+            (Integrator::Dopri5, true) => Some(&self.dopri5_layered),
+        };
+        let pipeline = match lazy {
+            None => &self.rk4,
+            Some(cell) => cell
+                .get_or_init(|| compile(device, integrator, layers > 0).map_err(|e| e.to_string()))
                 .as_ref()
-                .map_err(|e| GpuError::Runtime(e.clone()))?
+                .map_err(|e| GpuError::Runtime(e.clone()))?,
         };
         let b_control = storage(
             "control",
@@ -322,9 +376,19 @@ const ADAPTIVE_DISPATCHES_PER_ROUND: u64 = 32;
 /// steps collapse is declared diverged by the kernel long before).
 const MAX_ADAPTIVE_ATTEMPTS: u64 = 1 << 32;
 
-/// Why the GPU backend refuses the `layered` level.
-pub const LAYERED_ON_CPU: &str = "the layered level runs on the CPU backend only so far \
-     (--backend cpu; --backend auto takes the CPU for it)";
+/// The `layered` level's layer count for `p` (its kernel), 0 at the other levels.
+fn kernel_layers(p: &Params) -> u32 {
+    if p.fidelity == Fidelity::Layered {
+        p.layered
+            .layers
+            .clamp(1, crate::model::state::NL_MAX as u32)
+    } else {
+        0
+    }
+}
+
+/// Loop iterations of one lumped RK4 step in the kernel (see `GpuEngine::step_budget`).
+const LUMPED_LOOPS_PER_STEP: u32 = 170;
 
 /// Sample and resolve instance `i`; instances the kernel cannot take finish on the CPU.
 fn prepare(plan: &Plan, i: u64) -> Prepared {
@@ -480,23 +544,26 @@ impl Engine for GpuEngine {
 
     fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
         let c = plan.campaign;
-        if c.params.fidelity == Fidelity::Layered {
-            return Err(LAYERED_ON_CPU.to_string());
-        }
         let fixed = c.stepping.integrator == Integrator::Rk4;
         let first = range.start;
         let mut prepared: Vec<Prepared> = range.into_par_iter().map(|i| prepare(plan, i)).collect();
-        let device_idx: Vec<usize> = prepared
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| matches!(p, Prepared::Device(_)))
-            .map(|(k, _)| k)
-            .collect();
+        // Device instances grouped by kernel: the `layered` level's (by layer count) or the
+        // others' (0), in instance order within each.
+        let mut groups: std::collections::BTreeMap<u32, Vec<usize>> = Default::default();
+        for (k, p) in prepared.iter().enumerate() {
+            if let Prepared::Device(d) = p {
+                groups.entry(kernel_layers(&d.params)).or_default().push(k);
+            }
+        }
         let (fluid, gas) = fluid_records(c.params.fluid);
         let names: Vec<String> = c.phases.iter().map(|p| p.name.clone()).collect();
         let n_phases = c.phases.len();
         let mut done: Vec<Option<InstanceRecord>> = vec![None; prepared.len()];
-        for batch in device_idx.chunks(self.max_batch(n_phases)) {
+        let batches = groups.iter().flat_map(|(&layers, idx)| {
+            idx.chunks(self.max_batch(n_phases))
+                .map(move |batch| (layers, batch))
+        });
+        for (layers, batch) in batches {
             let mut tables = Tables::default();
             let mut max_steps = 0u64;
             let mut params = Vec::with_capacity(batch.len());
@@ -511,6 +578,7 @@ impl Engine for GpuEngine {
             }
             let (results, phase_results) = self
                 .dispatch(
+                    layers,
                     &fluid,
                     &gas,
                     &params,

@@ -8,11 +8,21 @@ use crate::gpu::props::{GpuFluid, GpuGas, GpuTank};
 use crate::gpu_struct;
 use crate::model::flight::{Excitation, Phase, PhaseKind};
 use crate::model::params::{Fidelity, Params};
-use crate::model::state::State;
+use crate::model::state::{State, NL_MAX};
 
-/// The state slots the device carries: the leading `state::COL`, every level's but the `layered`
-/// column's, which the GPU backend does not run yet (`GpuEngine` refuses the level).
-pub const DEVICE_SLOTS: usize = crate::model::state::COL;
+/// The state slots the device records carry: all of them. A kernel's own state type covers
+/// [`kernel_slots`] of them (the `layered` column's only in the kernel built for that level).
+pub const DEVICE_SLOTS: usize = crate::model::state::NS;
+
+/// The state slots a kernel carries in its registers: the leading `state::COL`, every level's,
+/// and the `layered` column's enthalpies only in the kernel built for that level (`layered`).
+pub fn kernel_slots(layered: bool) -> usize {
+    if layered {
+        crate::model::state::NS
+    } else {
+        crate::model::state::COL
+    }
+}
 
 pub use super::constants::constants_wgsl;
 
@@ -49,7 +59,7 @@ pub mod exc {
 }
 
 /// Why an instance diverged, in [`GpuResult::diverged`] (0: it did not).
-pub const DIVERGED_REASONS: [&str; 13] = [
+pub const DIVERGED_REASONS: [&str; 15] = [
     "",
     "a state slot is not finite",
     "ullage pressure",
@@ -62,6 +72,8 @@ pub const DIVERGED_REASONS: [&str; 13] = [
     "vapour mass",
     "helium mass",
     "layer or bulk mass",
+    "coldest liquid temperature",
+    "warmest liquid temperature",
     "error-controlled step size (it fell below 1e-12 of the phase time)",
 ];
 
@@ -144,6 +156,11 @@ gpu_struct! {
         pub dry_mass_kg: f32,
         pub drag_area_m2: f32,
         pub lever_arm_m: f32,
+        /// `[layered]` (`model::column`): the number of layers, the boundary layer's detrainment
+        /// width (K) and the layers' mass fractions w_k, bottom to top (0 from `layers` on).
+        pub layers: u32,
+        pub detrain_width_k: f32,
+        pub layer_w: [f32; NL_MAX],
         pub s0_hi: [f32; DEVICE_SLOTS],
         pub s0_lo: [f32; DEVICE_SLOTS],
         /// Error control (`campaign.rtol`; `campaign.atol` times each slot's reference scale,
@@ -311,7 +328,6 @@ pub(super) fn fidelity_code(f: Fidelity) -> u32 {
         Fidelity::Homogeneous => 0,
         Fidelity::Lumped => 1,
         Fidelity::TwoMode => 2,
-        // Never sent: `GpuEngine` refuses the level.
         Fidelity::Layered => 3,
     }
 }
@@ -437,6 +453,9 @@ impl GpuParams {
             dry_mass_kg: f(p.vehicle.dry_mass_kg),
             drag_area_m2: f(p.vehicle.drag_area_m2),
             lever_arm_m: f(p.vehicle.slosh_lever_arm_m),
+            layers: p.layered.layers.clamp(1, NL_MAX as u32),
+            detrain_width_k: f(p.layered.detrain_width_k),
+            layer_w: crate::model::column::fractions(&p.layered).map(|w| w as f32),
             s0_hi,
             s0_lo,
             rtol: rtol as f32,
