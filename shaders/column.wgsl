@@ -316,21 +316,16 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     let q_us = stiff_blend(z_us).x * h_us * a_i * (t_u - t_s);
 
     let kd = evaporation_driving(s, x, h_us / (gas.rho * gas.cp));
-    let h_vap_gas = u_vap + vapor.z * rv * t_u;
-    let y = b.y;
-    let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
-    let h_press = pressurant_inlet_enthalpy(x.p_u);
-    let press_v = b.press * pressurant_vapor_share();
+    var c = ullage_tail(s, x, b, vapor, u_vap, c_gas);
     let pu = x.p_u;
 
-    (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - y);
+    (*ds)[M_G] = b.press - c.press_v - b.vent * (1.0 - b.y);
     let force = motion_rates(s, d, x, ds);
     let angle = slosh_angle(s, x.sl);
     let dv_slosh = P.coupling_volume_m3 * cos(angle) * slosh_angle_rate(s, x);
 
     // The film's slots at the evaporation rate (rhs.wgsl's evap_tail): the film's wall band,
     // the top layer's enthalpy for what it entrains, the stirring and pump heat as q_pump_s.
-    var c: EvapTail;
     c.q_ws = q_film_wall;
     c.q_us = q_us;
     c.q_sb = q_sb;
@@ -343,27 +338,8 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     c.h_tvs_s = h_tvs_s;
     c.h_ls = h_ls;
     c.h_lb = h_top;
-    c.h_fg = fl_h_fg(t_s);
-    c.h_vap_gas = h_vap_gas;
-    c.u_vap = u_vap;
-    c.rho_v = rho_v;
-    c.du_res_drho = vapor.du_res_drho;
-    c.dp_dt = vapor.dp_dt;
-    c.dp_drho = vapor.dp_drho;
-    c.c_u = c_gas;
-    c.vent = b.vent;
-    c.y = y;
-    c.press = b.press;
-    c.press_v = press_v;
-    c.h_press = h_press;
-    c.h_u = h_u;
-    c.pu = pu;
     c.dv_b = dv_col;
     c.dv_slosh = dv_slosh;
-    c.t_s = t_s;
-    c.rho_s = x.rho_s;
-    c.dh_dt_s = fl_dh_l_dt(t_s);
-    c.dpsat_dt = fl_dpsat_dt(t_s);
     let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
     EVAP_RATE = m_evap;
     let r = evap_tail(c, m_evap);
@@ -373,7 +349,7 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     (*ds)[U_U] = r[3];
 
     wall_rates(x, env, q_wl, q_wu, r[4] + dv_col, ds);
-    boundary_ledger(b, h_press, h_u, out_b * CH[0] + out_s * h_ls, ds);
+    boundary_ledger(b, c.h_press, c.h_u, out_b * CH[0] + out_s * h_ls, ds);
     (*ds)[E_WORK] = -pu * dv_slosh;
     (*ds)[E_PUMP] = q_pump;
     (*ds)[VENT_TVS] = tv.vent;

@@ -83,6 +83,36 @@ struct EvapTail {
     dpsat_dt: f32,
 }
 
+/// The ullage side of EvapTail, alike for the lumped film and the `layered` one: the real-gas
+/// vapour at the ullage state (its `vapor` state, energy `u_vap` and the ullage's heat capacity
+/// `c_gas`), the boundary flows' enthalpies and the film's saturation slopes. The caller sets
+/// the liquid side (heats, draws, the film's and the liquid below's enthalpies and volume rates).
+fn ullage_tail(s: ptr<function, St>, x: Derived, b: Bnd, vapor: VaporState, u_vap: f32, c_gas: f32) -> EvapTail {
+    var c: EvapTail;
+    let t_u = x.t_u;
+    let t_s = x.t_s;
+    c.h_fg = fl_h_fg(t_s);
+    c.h_vap_gas = u_vap + vapor.z * fl_r_specific() * t_u;
+    c.u_vap = u_vap;
+    c.rho_v = (*s)[M_V] / x.v_u;
+    c.du_res_drho = vapor.du_res_drho;
+    c.dp_dt = vapor.dp_dt;
+    c.dp_drho = vapor.dp_drho;
+    c.c_u = c_gas;
+    c.vent = b.vent;
+    c.y = b.y;
+    c.press = b.press;
+    c.press_v = b.press * pressurant_vapor_share();
+    c.h_press = pressurant_inlet_enthalpy(x.p_u);
+    c.h_u = b.y * c.h_vap_gas + (1.0 - b.y) * HE.cp * t_u;
+    c.pu = x.p_u;
+    c.t_s = t_s;
+    c.rho_s = x.rho_s;
+    c.dh_dt_s = fl_dh_l_dt(t_s);
+    c.dpsat_dt = fl_dpsat_dt(t_s);
+    return c;
+}
+
 /// [dm_v, dm_s, dH_s, dU_u, dV_s] at evaporation rate m.
 fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
     let e_evap = max(m, 0.0) * (c.h_ls + c.h_fg) + min(m, 0.0) * c.h_vap_gas;
@@ -202,14 +232,10 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
 
     let h_ls = fl_h_l(t_s);
     let h_lb = fl_h_l(t_b);
-    let h_vap_gas = u_vap + vapor.z * fl_r_specific() * t_u;
-    let y = b.y;
-    let h_u = y * h_vap_gas + (1.0 - y) * HE.cp * t_u;
-    let h_press = pressurant_inlet_enthalpy(x.p_u);
-    let press_v = b.press * pressurant_vapor_share();
+    var c = ullage_tail(s, x, b, vapor, u_vap, c_gas);
     let pu = x.p_u;
 
-    (*ds)[M_G] = b.press - press_v - b.vent * (1.0 - y);
+    (*ds)[M_G] = b.press - c.press_v - b.vent * (1.0 - b.y);
     (*ds)[M_B] = -m_strat - out_b - tvs_b;
     let mix_w = damp * m_mix * (h_ls - h_lb);
     let q_pump_b = q_pump * bulk_left;
@@ -223,7 +249,6 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let angle = slosh_angle(s, x.sl);
     let dv_slosh = P.coupling_volume_m3 * cos(angle) * slosh_angle_rate(s, x);
 
-    var c: EvapTail;
     c.q_ws = q_ws;
     c.q_us = q_us;
     c.q_sb = q_sb;
@@ -236,27 +261,8 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.h_tvs_s = h_tvs_s;
     c.h_ls = h_ls;
     c.h_lb = h_lb;
-    c.h_fg = fl_h_fg(t_s);
-    c.h_vap_gas = h_vap_gas;
-    c.u_vap = u_vap;
-    c.rho_v = rho_v;
-    c.du_res_drho = vapor.du_res_drho;
-    c.dp_dt = vapor.dp_dt;
-    c.dp_drho = vapor.dp_drho;
-    c.c_u = c_gas;
-    c.vent = b.vent;
-    c.y = y;
-    c.press = b.press;
-    c.press_v = press_v;
-    c.h_press = h_press;
-    c.h_u = h_u;
-    c.pu = pu;
     c.dv_b = rb.y;
     c.dv_slosh = dv_slosh;
-    c.t_s = t_s;
-    c.rho_s = x.rho_s;
-    c.dh_dt_s = fl_dh_l_dt(t_s);
-    c.dpsat_dt = fl_dpsat_dt(t_s);
     let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
     EVAP_RATE = m_evap;
     let r = evap_tail(c, m_evap);
@@ -267,7 +273,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let rs = vec2<f32>(r[2], r[4]);
 
     wall_rates(x, env, q_wl, q_wu, rs.y + rb.y, ds);
-    boundary_ledger(b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
+    boundary_ledger(b, c.h_press, c.h_u, out_s * h_ls + out_b * h_lb, ds);
     (*ds)[E_WORK] = -pu * dv_slosh;
     (*ds)[E_PUMP] = q_pump;
     (*ds)[VENT_TVS] = tv.vent;
