@@ -179,6 +179,32 @@ fn slosh_speed(s: ptr<function, St>, x: Derived) -> f32 {
     return 0.0;
 }
 
+/// The waves that stir the liquid (model::wave_mixing::waves): per mode c_mix |x_n| |ẋ_n| (m²/s)
+/// and ξ_n / R (1/m), packed (x, y) for mode 1 and (z, w) for mode 2; x = L θ on `lumped`.
+fn slosh_waves(s: ptr<function, St>, x: Derived) -> vec4<f32> {
+    let radius = tank_radius();
+    if (P.fidelity == FID_LUMPED) {
+        let l = x.sl.length.x;
+        let a1 = P.coupling_mixing * abs(l * (*s)[Q1]) * abs(l * (*s)[Q1D]);
+        return vec4<f32>(a1, SLOSH_XI_0 / radius, 0.0, 0.0);
+    }
+    if (two_mode_slosh()) {
+        return vec4<f32>(
+            P.coupling_mixing * abs((*s)[Q1]) * abs((*s)[Q1D]),
+            SLOSH_XI_0 / radius,
+            P.coupling_mixing * abs((*s)[Q2]) * abs((*s)[Q2D]),
+            SLOSH_XI_1 / radius,
+        );
+    }
+    return vec4<f32>(0.0);
+}
+
+/// The eddy diffusivity Σ c_mix |x_n| |ẋ_n| e^(−2 ξ_n d / R) at `depth` (m) below the surface,
+/// m²/s (model::wave_mixing::eddy_diffusivity).
+fn eddy_diffusivity(waves: vec4<f32>, depth: f32) -> f32 {
+    return waves.x * exp(depth * waves.y * -2.0) + waves.z * exp(depth * waves.w * -2.0);
+}
+
 fn slosh_angle_rate(s: ptr<function, St>, x: Derived) -> f32 {
     if (two_mode_slosh()) {
         let l = x.sl.length.x;

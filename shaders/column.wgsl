@@ -146,7 +146,7 @@ fn neighbour_exchange(liq: Conv, level: f32, conductivity: f32, a_ax: f32, waves
         let area = SECTION[k];
         let depth = max(level - Z_TOP[k], 0.0);
         let overturn = h_unstable_interface(liq, a_ax, CT[k] - CT[k + 1u], WALL_R[k] * 0.5);
-        let eddy = waves.x * exp(depth * waves.y * -2.0) + waves.z * exp(depth * waves.w * -2.0);
+        let eddy = eddy_diffusivity(waves, depth);
         let rho_pair = (CRHO[k] + CRHO[k + 1u]) * 0.5;
         let cp = liq.cp;
         let g_kg_s = (rho_pair * eddy + conductivity / cp) * area / gap + overturn * area / cp;
@@ -229,12 +229,7 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     let q_film_wall = q_wl * (max(wetted_total - below, 0.0) / wetted_total);
 
     boundary_layer_sources(liq, max(x.t_ww - t_mean, 0.0), x.a_ax);
-    let waves = vec4<f32>(
-        P.coupling_mixing * abs((*s)[Q1]) * abs((*s)[Q1D]),
-        SLOSH_WAVENUMBER_RADIUS / radius,
-        P.coupling_mixing * abs((*s)[Q2]) * abs((*s)[Q2D]),
-        SLOSH_WAVENUMBER_RADIUS_2 / radius,
-    );
+    let waves = slosh_waves(s, x);
     neighbour_exchange(liq, x.level, liq.k * P.diffusivity_factor, x.a_ax, waves, dt);
 
     // Film ↔ top layer: conduction penetration, overturning, slosh exchange (column::rhs).
@@ -245,17 +240,15 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
         h_sb0 = P.h_sb;
     }
     let h_sb = h_sb0 + h_unstable_interface(liq, x.a_ax, t_top - t_s, r_surf * 0.5) + P.coupling_h * speed;
-    let alpha = P.diffusivity_factor * fl_k_l(t_s) / (x.rho_s * cp_s);
     let delta = max((*s)[M_S] / (x.rho_s * a_i), 1.0e-6);
+    let alpha = P.diffusivity_factor * fl_k_l(t_s) / (x.rho_s * cp_s) + eddy_diffusivity(waves, delta);
     let m_strat = x.rho_s * a_i * PI * alpha / (delta * 8.0) * bulk_left;
-    let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left;
-    let exchange = m_mix + h_sb * a_i / liq.cp;
+    let exchange = h_sb * a_i / liq.cp;
     let z = dt * exchange * (1.0 / m_s + 1.0 / max(CM[top], 1.0e-9));
     let damp = stiff_blend(z).x;
     let q_sb = damp * h_sb * a_i * (t_s - t_top);
-    let mix_w = damp * m_mix * (h_ls - h_top);
     SRC_M[top] -= m_strat;
-    SRC_E[top] += q_sb + mix_w - m_strat * h_top;
+    SRC_E[top] += q_sb - m_strat * h_top;
 
     // The jet mixer and the TVS spray stir the whole liquid towards its mass-mean enthalpy.
     let jet = jet_mixer(d);
@@ -332,7 +325,7 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     c.q_wu = q_wu;
     c.m_strat = m_strat;
     c.out_s = out_s;
-    c.mix_w = mix_w;
+    c.mix_w = 0.0;
     c.q_pump_s = film_stir;
     c.tvs_s = tvs_s;
     c.h_tvs_s = h_tvs_s;

@@ -205,8 +205,10 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let h_sb = h_sb0 + h_unstable_interface(liq, x.a_ax, t_b - t_s, 0.5 * r_surf) + P.coupling_h * speed;
     let q_sb_raw = h_sb * a_i * (t_s - t_b);
 
-    let alpha = P.diffusivity_factor * fl_k_l(t_s) / (x.rho_s * fl_cp_l(t_s));
+    // Penetration growth; slosh mixing (coupling III) adds the wave's eddy diffusivity at the
+    // layer's base (nodes::rhs).
     let delta = max((*s)[M_S] / (x.rho_s * a_i), 1.0e-6);
+    let alpha = P.diffusivity_factor * fl_k_l(t_s) / (x.rho_s * fl_cp_l(t_s)) + eddy_diffusivity(slosh_waves(s, x), delta);
     let bulk_left = clamp((*s)[M_B] / (BULK_MERGE_FRACTION * ((*s)[M_B] + (*s)[M_S]) + 1.0e-9), 0.0, 1.0);
     let m_strat = x.rho_s * a_i * PI * alpha / (8.0 * delta) * bulk_left;
     // The jet mixer (nodes::rhs): ṁ_jet = (m_s m_b / (m_s + m_b)) / τ each way, and its heat.
@@ -216,7 +218,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     // The TVS's spray (model::tvs): the layer's share of the recirculated liquid each way.
     let tv = tvs_flows(d);
     let m_spray = tv.pump_m3_s * x.rho_b * (*s)[M_S] / max((*s)[M_S] + m_b, 1.0e-9) * bulk_left;
-    let m_mix = P.coupling_mixing * (*s)[M_S] * speed * bulk_left + m_jet + m_spray;
+    let m_mix = m_jet + m_spray;
     let q_pump = jet.y + tv.pump_heat_w;
     // Layer ↔ bulk exchange as a two-node relaxation, stable at any step (nodes.rs::rhs).
     let z = dt * (m_mix + h_sb * a_i / liq.cp) * (1.0 / max((*s)[M_S], 1.0e-9) + 1.0 / max(m_b, 1.0e-9));

@@ -199,10 +199,11 @@ fn autogenous_burn_holds_pressure_with_vapour_only() {
             continue;
         }
         // The PD regulator holds the setpoint with vapour alone while the engine drains the
-        // tank (its proportional droop is ≈2 %).
+        // tank (its proportional droop is ≈2 %; the 0.03 rad wave at 83 s deepens the warm layer
+        // by the wave's eddy diffusivity and the pressure dips 3.7 % on `lumped`, PHYSICS 6.4).
         assert!(!q.pressurant_exhausted, "{level}");
         assert!(
-            lo > 0.97 * setpoint && hi < 1.01 * setpoint,
+            lo > 0.95 * setpoint && hi < 1.01 * setpoint,
             "{level}: pressure {lo}–{hi} Pa against {setpoint} Pa"
         );
     }

@@ -493,14 +493,18 @@ class Model:
             + enhancement * speed
         )
         q_sb = h_sb * a_i * (t_s - t_b)
-        alpha = p["diffusivity_factor"] * fl.k_l(t_s) / (x["rho_layer"] * layer["cp"])
         delta = xp.maximum(s[M_S] / (x["rho_layer"] * a_i), 1.0e-6)
+        # wave_mixing: the wave's eddy diffusivity at the layer's base joins the penetration growth.
+        l1 = x["slosh_length"][0]
+        waves = p["mixing"] * xp.abs(l1 * s[Q1]) * xp.abs(l1 * s[Q1D])
+        eddy = waves * xp.exp(delta * (k["xi"][0] / p["tank_radius_m"]) * -2.0)
+        alpha = p["diffusivity_factor"] * fl.k_l(t_s) / (x["rho_layer"] * layer["cp"]) + eddy
         bulk_left = xp.clip(s[M_B] / ((s[M_B] + s[M_S]) * k["bulk_merge_fraction"] + 1.0e-9), 0.0, 1.0)
         m_strat = x["rho_layer"] * a_i * PI * alpha / (delta * 8.0) * bulk_left
-        m_mix = p["mixing"] * s[M_S] * speed * bulk_left
-        # nodes::rhs: the layer-bulk exchange (mixing and Q_sb) as a two-node relaxation.
+        # nodes::rhs: the layer-bulk exchange (Q_sb; no jet mixer or TVS spray in this port) as a
+        # two-node relaxation.
         m_b = xp.maximum(s[M_B], 0.0)
-        z_x = dt * (m_mix + h_sb * a_i / liq["cp"]) * (
+        z_x = dt * (h_sb * a_i / liq["cp"]) * (
             1.0 / xp.maximum(s[M_S], 1.0e-9) + 1.0 / xp.maximum(m_b, 1.0e-9)
         )
         damp = self.stiff_blend(z_x)[0]
@@ -522,8 +526,7 @@ class Model:
 
         ds[M_G] = b["press"] - press_v - b["vent"] * (1.0 - y)
         ds[M_B] = -m_strat - out_b
-        mix_w = damp * m_mix * (h_ls - h_lb)
-        f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb
+        f_b = q_wb + q_sb - m_strat * h_lb - out_b * h_lb
         dh_b, dv_b = liquid_node_rates(pu, f_b, ds[M_B], bulk)
         ds[H_B] = dh_b
         self.motion_rates(p, s, d, x, ds)
@@ -534,7 +537,7 @@ class Model:
             e_evap = xp.maximum(mm, 0.0) * (h_ls + h_fg) + xp.minimum(mm, 0.0) * h_vap_gas
             dm_v = mm + press_v - b["vent"] * y
             dm_s = -mm + m_strat - out_s
-            f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls
+            f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - out_s * h_ls
             dh_s, dv_s = liquid_node_rates(pu, f_s, dm_s, layer)
             du_u = (
                 q_wu - q_us + e_evap + b["press"] * h_press - b["vent"] * h_u + pu * (dv_s + dv_b) - pu * dv_slosh

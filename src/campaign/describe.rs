@@ -418,7 +418,7 @@ pub fn describe(c: &Campaign) -> String {
             cp.h_enhancement_w_per_m2_k_s,
             "W/(m²·K) per rad/s"
         ),
-        kv("mixing_coefficient", cp.mixing, "per rad"),
+        kv("mixing_coefficient", cp.mixing, ""),
         kv("initial_angle_rad", c.initial_slosh_angle_rad, "rad"),
     );
     let _ = writeln!(

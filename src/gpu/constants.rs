@@ -142,14 +142,6 @@ pub fn constants_wgsl(layered: bool) -> String {
             crate::model::insulation::MLI_GAS_EXPONENT,
         ),
         (
-            "SLOSH_WAVENUMBER_RADIUS",
-            crate::model::column::SLOSH_WAVENUMBER_RADIUS,
-        ),
-        (
-            "SLOSH_WAVENUMBER_RADIUS_2",
-            crate::model::column::SLOSH_WAVENUMBER_RADIUS_2,
-        ),
-        (
             "BL_LAMINAR_COEFFICIENT",
             crate::model::boundary_layer::LAMINAR_COEFFICIENT,
         ),

@@ -20,6 +20,7 @@ pub mod slosh_table;
 pub mod state;
 pub mod thermal;
 pub mod tvs;
+pub mod wave_mixing;
 
 use crate::geometry::TankLanes;
 use crate::lanes::{Mask, Real};

@@ -22,9 +22,10 @@ pub struct Fluxes<T = f64> {
     /// Relaxation rate of the interface pressure difference under evaporation, K·J, 1/s: its
     /// inverse is the physical time the evaporation takes to follow a change (milliseconds).
     pub evap_relaxation_per_s: T,
-    /// Growth of the warm layer by entrainment of bulk liquid, kg/s.
+    /// Growth of the warm layer by entrainment of bulk liquid (conduction penetration and slosh
+    /// mixing), kg/s.
     pub strat_kg_s: T,
-    /// Layer ↔ bulk exchange by slosh mixing and the jet mixer, kg/s each way.
+    /// Layer ↔ bulk exchange by the jet mixer and the TVS spray, kg/s each way.
     pub mix_kg_s: T,
     /// Liquid the wall boundary layer brings to the top of the column, kg/s (`layered`; 0 on
     /// the other levels).
@@ -279,16 +280,18 @@ pub fn rhs<T: Real>(
 
     // Layer growth by conduction penetration: δ² = (π/4) α_eff t reproduces the surface
     // temperature of a semi-infinite liquid under constant flux (Carslaw & Jaeger §2.9), so
-    // dm_s/dt = ρ A π α_eff / (8 δ), δ = m_s / (ρ A). Needs bulk liquid to entrain.
+    // dm_s/dt = ρ A π α_eff / (8 δ), δ = m_s / (ρ A). Needs bulk liquid to entrain. Slosh
+    // mixing (coupling III, `wave_mixing`) adds the wave's eddy diffusivity at the layer's base
+    // to α_eff: the wave deepens the mixed layer.
     let factor: T = g.get(|p| p.stratification.diffusivity_factor);
-    let alpha = factor * f.k_l_w_per_m_k(t_s) / (x.rho_layer * layer.cp);
     let delta = (s[M_S] / (x.rho_layer * a_i)).max_c(1.0e-6);
+    let eddy = super::wave_mixing::eddy_diffusivity(&super::wave_mixing::waves(g, s, x), delta);
+    let alpha = factor * f.k_l_w_per_m_k(t_s) / (x.rho_layer * layer.cp) + eddy;
     // The bulk fades out of strat, mixing and the draw over its last share of the liquid, the
     // share below which it merges into the layer.
     let bulk_left =
         (s[M_B] / ((s[M_B] + s[M_S]) * super::BULK_MERGE_FRACTION + 1.0e-9)).clamp_c(0.0, 1.0);
     let m_strat = x.rho_layer * a_i * PI * alpha / (delta * 8.0) * bulk_left;
-    let mixing: T = g.get(|p| p.coupling.mixing);
     // The jet mixer (`model::mixer`): equal masses both ways at ṁ_jet = (m_s m_b / (m_s + m_b))
     // / τ, so that ṁ_jet (1/m_s + 1/m_b) = 1/τ; its pump heat enters the liquid.
     let (jet_per_s, q_mixer) = super::mixer::lanes(g, d);
@@ -298,7 +301,7 @@ pub fn rhs<T: Real>(
     // recirculated liquid, ρ_b Q m_s / (m_s + m_b), exchanged with equal bulk mass.
     let tvs = super::tvs::lanes(g, d);
     let m_spray = tvs.pump_flow_m3_s * bulk.rho * s[M_S] / (s[M_S] + m_b).max_c(1.0e-9) * bulk_left;
-    let m_mix = mixing * s[M_S] * speed * bulk_left + m_jet + m_spray;
+    let m_mix = m_jet + m_spray;
     let q_pump = q_mixer + tvs.pump_heat_w;
     // Layer ↔ bulk exchange (mixing and interface conduction) as the two-node relaxation it is:
     // the difference relaxes at G (1/m_s + 1/m_b), G = ṁ_mix + h_sb A_i / c_p, and the step

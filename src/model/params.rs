@@ -107,7 +107,8 @@ pub struct Coupling {
     pub volume_m3: f64,
     /// Heat-transfer enhancement k_h of coupling II, W/(m²·K) per rad/s.
     pub h_enhancement_w_per_m2_k_s: f64,
-    /// Exchange mass coefficient c_mix of coupling III, per rad.
+    /// Constant c_mix of coupling III, the wave-induced eddy diffusivity
+    /// D = c_mix Σ |x_n| |ẋ_n| e^(−2 ξ_n d / R) (`model::wave_mixing`), dimensionless.
     pub mixing: f64,
 }
 

@@ -4,8 +4,8 @@
 //!
 //! The film (slots `M_S`, `H_S`) is the lumped levels' stratified layer, with the same closures:
 //! evaporation and the ullage's heat at its surface, growth by conduction penetration into the
-//! liquid below, slosh exchange c_mix m_s |speed| and overturning when it is colder than what is
-//! under it. It is the sub-grid model of the interface, whose millimetre-thick conduction layer
+//! liquid below, slosh exchange through the wave's eddy diffusivity (`wave_mixing`) and
+//! overturning when it is colder than what is under it. It is the sub-grid model of the interface, whose millimetre-thick conduction layer
 //! no affordable grid resolves. The column (slot `M_B` and the enthalpies from `COL`) replaces
 //! the single bulk node: its layers hold fixed shares w_k of the column's mass (finer towards the
 //! top by `layered.stretch`), so their masses need no slots and a draining tank keeps its
@@ -76,14 +76,6 @@ pub fn max_stretch(layers: u32, most: f64) -> f64 {
 /// `layered.detrain_width_k`, a numerical smoothing of the neutral-buoyancy switch so that the
 /// right-hand side stays continuous, small against any stratification that matters.
 pub const DETRAIN_WIDTH_K: f64 = 2.0e-3;
-
-/// ξ₁, the first antisymmetric slosh mode's wavenumber times the tank radius (first root of
-/// J₁′; Abramson, NASA SP-106, ch. 2): the wave's amplitude and velocity decay with depth d as
-/// e^(−ξ₁ d / R).
-pub const SLOSH_WAVENUMBER_RADIUS: f64 = 1.8412;
-
-/// ξ₂, the second mode's (second root of J₁′).
-pub const SLOSH_WAVENUMBER_RADIUS_2: f64 = 5.3314;
 
 /// The layers' mass fractions w_k, bottom (k = 0) to top, for `l`: geometric, each layer
 /// `l.stretch` times the mass of the one above it, summing to 1. Entries from `l.layers` on are 0.

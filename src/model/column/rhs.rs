@@ -2,7 +2,7 @@
 //! exchange, stirring), its neighbour exchanges and remap, and the film's evaporation under the
 //! ullage (module docs of [`super`]).
 
-use super::{Profile, SLOSH_WAVENUMBER_RADIUS, SLOSH_WAVENUMBER_RADIUS_2};
+use super::Profile;
 use crate::fluids::HELIUM;
 use crate::lanes::{c, Real};
 use crate::model::boundary::{self, BoundaryFlows};
@@ -12,6 +12,7 @@ use crate::model::nodes::{self, Fluxes, NodeFits};
 use crate::model::params::Params;
 use crate::model::state::*;
 use crate::model::thermal;
+use crate::model::wave_mixing;
 use crate::model::Group;
 use std::f64::consts::PI;
 
@@ -144,10 +145,7 @@ pub fn neighbour_exchange<T: Real>(e: &Exchange<'_, T>, energy: &mut [T; NL_MAX]
             prof.t[k] - prof.t[k + 1],
             e.wall_radius[k] * 0.5,
         );
-        let mut eddy = c::<T>(0.0);
-        for (amplitude, decay) in e.waves {
-            eddy += amplitude * (depth * decay * -2.0).exp();
-        }
+        let eddy = wave_mixing::eddy_diffusivity(&e.waves, depth);
         let rho_pair = (prof.rho[k] + prof.rho[k + 1]) * 0.5;
         let cp = e.liquid.cp;
         let g_kg_s = (rho_pair * eddy + e.conductivity / cp) * area / gap + overturn * area / cp;
@@ -186,7 +184,6 @@ pub fn rhs<T: Real>(
     let heat_cap = s[M_V] * (vapor.du_res_dt + cv0) + s[M_G] * cv_g;
     let a_i = x.interface_area_m2;
     let tank = g.tank();
-    let radius: T = g.get(|p| p.tank.radius_m());
     let r_surf = tank.surface_radius_m(x.level_m).max_c(1.0e-3);
     let a_tot = tank.wall_area_m2();
     let dry_share = x.wetted_share.rsub(1.0);
@@ -275,7 +272,7 @@ pub fn rhs<T: Real>(
 
     // Neighbour exchanges inside the column (`neighbour_exchange`).
     let factor: T = g.get(|p| p.stratification.diffusivity_factor);
-    let mixing: T = g.get(|p| p.coupling.mixing);
+    let waves = wave_mixing::waves(g, s, x);
     let exchange = Exchange {
         prof,
         z_top: &z_top,
@@ -285,39 +282,29 @@ pub fn rhs<T: Real>(
         conductivity: liq.k * factor,
         liquid: &liq,
         a_ax: x.a_ax,
-        waves: [
-            (
-                mixing * s[Q1].abs() * s[Q1D].abs(),
-                radius.rdiv(SLOSH_WAVENUMBER_RADIUS),
-            ),
-            (
-                mixing * s[Q2].abs() * s[Q2D].abs(),
-                radius.rdiv(SLOSH_WAVENUMBER_RADIUS_2),
-            ),
-        ],
+        waves,
         dt,
     };
     neighbour_exchange(&exchange, &mut src.energy);
 
     // Film ↔ top layer, with the lumped levels' closures: the film grows by conduction
-    // penetration (δ² = (π/4) α_eff t, entraining the top layer), overturns when colder than it
-    // (Lloyd & Moran), and exchanges c_mix m_s |speed| both ways under slosh (coupling III) with
-    // the interface coefficient enhanced by k_h |speed| (coupling II).
+    // penetration (δ² = (π/4) α_eff t, entraining the top layer; α_eff takes the wave's eddy
+    // diffusivity at the film's base, coupling III), overturns when colder than it (Lloyd &
+    // Moran), with the interface coefficient enhanced by k_h |speed| (coupling II).
     let (h_top, t_top) = (prof.h[top], prof.t[top]);
     let h_sb = nodes::closure(g, |h| h.h_sb_w_per_m2_k, || c::<T>(0.0))
         + thermal::h_unstable_interface(&liq, x.a_ax, t_top - t_s, r_surf * 0.5)
         + enhancement * speed;
-    let alpha = factor * f.k_l_w_per_m_k(t_s) / (x.rho_layer * film.cp);
     let delta = (s[M_S] / (x.rho_layer * a_i)).max_c(1.0e-6);
+    let alpha = factor * f.k_l_w_per_m_k(t_s) / (x.rho_layer * film.cp)
+        + wave_mixing::eddy_diffusivity(&waves, delta);
     let m_strat = x.rho_layer * a_i * PI * alpha / (delta * 8.0) * bulk_left;
-    let m_mix = mixing * s[M_S] * speed * bulk_left;
-    let exchange = m_mix + h_sb * a_i / liq.cp;
+    let exchange = h_sb * a_i / liq.cp;
     let z = dt * exchange * (m_s.rdiv(1.0) + prof.m[top].max_c(1.0e-9).rdiv(1.0));
     let damp = thermal::stiff_blend(z).0;
     let q_sb = damp * h_sb * a_i * (t_s - t_top);
-    let mix_w = damp * m_mix * (film.h - h_top);
     src.mass[top] -= m_strat;
-    src.energy[top] += q_sb + mix_w - m_strat * h_top;
+    src.energy[top] += q_sb - m_strat * h_top;
 
     // The jet mixer and the thermodynamic vent's spray stir the whole liquid: the film and every
     // layer relax towards the mass-mean enthalpy at 1/τ (mixer) + ρ Q / m_l (spray turnover);
@@ -399,9 +386,8 @@ pub fn rhs<T: Real>(
 
     // The film's slots at evaporation rate m, as `nodes::rhs`: [dm_v, dm_s, dH_s, dU_u, dV_s].
     let film_mass = m_strat - out_s - tvs_s;
-    let film_energy = q_film_wall + q_us - q_sb - mix_w + m_strat * h_top + film_stir
-        - out_s * film.h
-        - tvs_s * h_tvs_s;
+    let film_energy =
+        q_film_wall + q_us - q_sb + m_strat * h_top + film_stir - out_s * film.h - tvs_s * h_tvs_s;
     let tail = |m: T| -> [T; 5] {
         let e_evap = m.max_c(0.0) * (film.h + h_fg) + m.min_c(0.0) * h_vap_gas;
         let dm_v = m + press_v - b.vent_kg_s * y;
@@ -441,7 +427,7 @@ pub fn rhs<T: Real>(
         evap_kg_s: m_evap,
         evap_relaxation_per_s: evap_relaxation,
         strat_kg_s: m_strat,
-        mix_kg_s: m_mix,
+        mix_kg_s: c(0.0),
         boundary_layer_kg_s: bl_top_kg_s,
         q_wall_liquid_w: q_wl,
         q_wall_ullage_w: q_wu,
