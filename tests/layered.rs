@@ -265,8 +265,8 @@ fn layered_input_is_checked() {
         assert!(e.contains(key) && e.contains(allowed), "{e}");
     };
     let layered = "campaign.fidelity=layered";
-    refused(&[layered, "layered.layers=0"], "layered.layers", "[1, 32]");
-    refused(&[layered, "layered.layers=33"], "layered.layers", "[1, 32]");
+    refused(&[layered, "layered.layers=0"], "layered.layers", "[1, 40]");
+    refused(&[layered, "layered.layers=41"], "layered.layers", "[1, 40]");
     refused(
         &[layered, "layered.stretch=2.5"],
         "layered.stretch",

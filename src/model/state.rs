@@ -73,7 +73,7 @@ pub const VENT_TVS: usize = 26;
 pub const COL: usize = 27;
 /// Most layers a `layered` column may have (`layered.layers`): the state is one fixed-size array
 /// for every level, and the GPU kernels carry it per invocation (docs/GPU.md).
-pub const NL_MAX: usize = 32;
+pub const NL_MAX: usize = 40;
 /// Number of state slots.
 pub const NS: usize = COL + NL_MAX;
 
