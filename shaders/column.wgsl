@@ -232,7 +232,8 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     let waves = slosh_waves(s, x);
     neighbour_exchange(liq, x.level, liq.k * P.diffusivity_factor, x.a_ax, waves, dt);
 
-    // Film ↔ top layer: conduction penetration, overturning, slosh exchange (column::rhs).
+    // Film ↔ top layer: penetration growth (conduction and the wave's eddy diffusivity),
+    // overturning (column::rhs).
     let h_top = CH[top];
     let t_top = CT[top];
     var h_sb0 = 0.0;

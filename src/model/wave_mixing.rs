@@ -12,12 +12,11 @@ use super::state::*;
 use super::Group;
 use crate::lanes::{c, Real};
 
-/// The waves that stir the liquid, per mode: (c_mix |x_n| |ẋ_n|, m²/s; ξ_n / R, 1/m; ξ_n the
-/// roots of J₁′, [`XI`]: the mode's amplitude and velocity decay with depth d as
-/// e^(−ξ_n d / R), Abramson, NASA SP-106, ch. 2), with x_n the
-/// mode's lateral displacement: the two pendulums' on `two_mode` and `layered`, L θ (small angle)
-/// on `lumped`'s single pendulum of length L; none on `homogeneous`. c_mix is
-/// `slosh.mixing_coefficient` (dimensionless, [0, 100]).
+/// The waves that stir the liquid, per mode: (c_mix |x_n| |ẋ_n|, m²/s; ξ_n / R, 1/m; ξ_n the roots
+/// of J₁′, [`XI`]: the mode's amplitude and velocity decay with depth d as e^(−ξ_n d / R),
+/// Abramson, NASA SP-106, ch. 2), with x_n the mode's lateral displacement: the two pendulums' on
+/// `two_mode` and `layered`, L θ (small angle) on `lumped`'s single pendulum of length L; none on
+/// `homogeneous`. c_mix is `slosh.mixing_coefficient` (dimensionless, [0, 100]).
 pub fn waves<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> [(T, T); 2] {
     let mixing: T = g.get(|p| p.coupling.mixing);
     let radius: T = g.get(|p| p.tank.radius_m());

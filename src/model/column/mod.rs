@@ -4,21 +4,21 @@
 //!
 //! The film (slots `M_S`, `H_S`) is the lumped levels' stratified layer, with the same closures:
 //! evaporation and the ullage's heat at its surface, growth by conduction penetration into the
-//! liquid below, slosh exchange through the wave's eddy diffusivity (`wave_mixing`) and
-//! overturning when it is colder than what is under it. It is the sub-grid model of the interface, whose millimetre-thick conduction layer
-//! no affordable grid resolves. The column (slot `M_B` and the enthalpies from `COL`) replaces
-//! the single bulk node: its layers hold fixed shares w_k of the column's mass (finer towards the
-//! top by `layered.stretch`), so their masses need no slots and a draining tank keeps its
-//! resolution. Mass leaves or enters where it physically does — the engine and the thermodynamic
-//! vent draw from the bottom layer, the film entrains the top one, the wall boundary layer takes
-//! liquid from the layers it passes and gives it to the layer where it stops rising (the top one
-//! at the latest) — and the layer boundaries move with the liquid: the mass that must cross boundary k for
-//! every layer to keep its share, F_k = Σ_{j≤k} (S_j − w_j ṁ_col), carries the upwind layer's
-//! enthalpy (a conservative first-order remap). Energy moves between neighbours by conduction
-//! (molecular, times `stratification.diffusivity_factor`), overturning where the lower layer is
-//! warmer (Lloyd & Moran, as the lumped levels' unstable interface), and a wave-induced eddy
-//! diffusivity that decays with depth as the slosh modes do. Every exchange is written once and
-//! applied with opposite signs, so mass and energy close.
+//! liquid below (deepened by the slosh wave's eddy diffusivity, `wave_mixing`) and overturning when
+//! it is colder than what is under it. It is the sub-grid model of the interface, whose
+//! millimetre-thick conduction layer no affordable grid resolves. The column (slot `M_B` and the
+//! enthalpies from `COL`) replaces the single bulk node: its layers hold fixed shares w_k of the
+//! column's mass (finer towards the top by `layered.stretch`), so their masses need no slots and a
+//! draining tank keeps its resolution. Mass leaves or enters where it physically does — the engine
+//! and the thermodynamic vent draw from the bottom layer, the film entrains the top one, the wall
+//! boundary layer takes liquid from the layers it passes and gives it to the layer where it stops
+//! rising (the top one at the latest) — and the layer boundaries move with the liquid: the mass
+//! that must cross boundary k for every layer to keep its share, F_k = Σ_{j≤k} (S_j − w_j ṁ_col),
+//! carries the upwind layer's enthalpy (a conservative first-order remap). Energy moves between
+//! neighbours by conduction (molecular, times `stratification.diffusivity_factor`), overturning
+//! where the lower layer is warmer (Lloyd & Moran, as the lumped levels' unstable interface), and a
+//! wave-induced eddy diffusivity that decays with depth as the slosh modes do. Every exchange is
+//! written once and applied with opposite signs, so mass and energy close.
 
 mod rhs;
 
