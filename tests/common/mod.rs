@@ -8,6 +8,7 @@ use std::path::PathBuf;
 
 pub mod fixture;
 pub mod gpu;
+pub mod parity;
 pub mod report;
 
 /// Every shipped campaign.
