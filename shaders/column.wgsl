@@ -96,11 +96,17 @@ var<private> Q_BAND: array<f32, NL_MAX>;
 var<private> SECTION: array<f32, NL_MAX>;
 var<private> WALL_R: array<f32, NL_MAX>;
 
+/// What liquid carries when it leaves layer `k` for good: its enthalpy plus the flow work
+/// `pu` / ρ (column::rhs `h_flow`).
+fn flow_enthalpy(k: u32, pu: f32) -> f32 {
+    return CH[k] + pu / CRHO[k];
+}
+
 /// The wall boundary layer walking up the wetted bands (column::rhs boundary_layer_sources):
 /// entrains to its correlation's flow, carries the band's heat up to what its mass holds at the
 /// wall's excess `dtw` (K), gives its liquid to a layer once no lighter than the layer above
 /// (all of it to the top one). Adds to SRC_M / SRC_E.
-fn boundary_layer_sources(liq: Conv, dtw: f32, a_ax: f32) {
+fn boundary_layer_sources(liq: Conv, dtw: f32, a_ax: f32, pu: f32) {
     let n = layers();
     let top = n - 1u;
     var bl_m = 0.0;
@@ -112,19 +118,20 @@ fn boundary_layer_sources(liq: Conv, dtw: f32, a_ax: f32) {
         let wanted = PERIM[k] * bl_mass_flow(liq, a_ax, dtw, x);
         let entrained = max(wanted - bl_m, 0.0);
         bl_m += entrained;
-        bl_e += entrained * CH[k];
-        let room = max(bl_m * (CH[k] + dh_dt * dtw) - bl_e, 0.0);
+        let h_k = flow_enthalpy(k, pu);
+        bl_e += entrained * h_k;
+        let room = max(bl_m * (h_k + dh_dt * dtw) - bl_e, 0.0);
         let carried = min(max(Q_BAND[k], 0.0), room);
         bl_e += carried;
         var share = 1.0;
         if (k != top) {
             let h_bl = bl_e / max(bl_m, 1.0e-30);
-            share = clamp((CH[k + 1u] - h_bl) / (dh_dt * P.detrain_width_k) + 0.5, 0.0, 1.0);
+            share = clamp((flow_enthalpy(k + 1u, pu) - h_bl) / (dh_dt * P.detrain_width_k) + 0.5, 0.0, 1.0);
         }
         let out_m = share * bl_m;
         let out_e = share * bl_e;
         SRC_M[k] += out_m - entrained;
-        SRC_E[k] += out_e - entrained * CH[k] + (Q_BAND[k] - carried);
+        SRC_E[k] += out_e - entrained * h_k + (Q_BAND[k] - carried);
         bl_m -= out_m;
         bl_e -= out_e;
         origin += share * (Z_TOP[k] - origin);
@@ -228,13 +235,15 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     }
     let q_film_wall = q_wl * (max(wetted_total - below, 0.0) / wetted_total);
 
-    boundary_layer_sources(liq, max(x.t_ww - t_mean, 0.0), x.a_ax);
+    let pu = x.p_u;
+    let h_flow_film = h_ls + pu / x.rho_s;
+    boundary_layer_sources(liq, max(x.t_ww - t_mean, 0.0), x.a_ax, pu);
     let waves = slosh_waves(s, x);
     neighbour_exchange(liq, x.level, liq.k * P.diffusivity_factor, x.a_ax, waves, dt);
 
     // Film ↔ top layer: penetration growth (conduction and the wave's eddy diffusivity),
     // overturning (column::rhs).
-    let h_top = CH[top];
+    let h_top = flow_enthalpy(top, pu);
     let t_top = CT[top];
     var h_sb0 = 0.0;
     if ((P.flags & FLAG_H_SB) != 0u) {
@@ -273,7 +282,7 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     let h_tvs_b = tvs_leaving_enthalpy(tv, CT[0], CH[0]);
     let h_tvs_s = tvs_leaving_enthalpy(tv, t_s, h_ls);
     SRC_M[0] -= out_b + tvs_b;
-    SRC_E[0] -= out_b * CH[0] + tvs_b * h_tvs_b;
+    SRC_E[0] -= out_b * flow_enthalpy(0u, pu) + tvs_b * h_tvs_b;
 
     // The column's rates: the remap flux through each boundary, upwind.
     var dm_col = 0.0;
@@ -289,7 +298,7 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
         var energy_out = 0.0;
         if (k != top) {
             flow_out = flow_in + SRC_M[k] - dm_k;
-            energy_out = upwind(flow_out, CH[k], CH[k + 1u]);
+            energy_out = upwind(flow_out, flow_enthalpy(k, pu), flow_enthalpy(k + 1u, pu));
         }
         let flux = SRC_E[k] + energy_in - energy_out;
         let r = liquid_node_rates(x.p_u, flux, dm_k, CT[k], CRHO[k]);
@@ -311,7 +320,6 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
 
     let kd = evaporation_driving(s, x, h_us / (gas.rho * gas.cp));
     var c = ullage_tail(s, x, b, vapor, u_vap, c_gas);
-    let pu = x.p_u;
 
     (*ds)[M_G] = b.press - c.press_v - b.vent * (1.0 - b.y);
     let force = motion_rates(s, d, x, ds);
@@ -319,7 +327,7 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     let dv_slosh = P.coupling_volume_m3 * cos(angle) * slosh_angle_rate(s, x);
 
     // The film's slots at the evaporation rate (rhs.wgsl's evap_tail): the film's wall band,
-    // the top layer's enthalpy for what it entrains, the stirring and pump heat as q_pump_s.
+    // the top layer's flow enthalpy for what it entrains, the stirring and pump heat as q_pump_s.
     c.q_ws = q_film_wall;
     c.q_us = q_us;
     c.q_sb = q_sb;
@@ -331,7 +339,8 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     c.tvs_s = tvs_s;
     c.h_tvs_s = h_tvs_s;
     c.h_ls = h_ls;
-    c.h_lb = h_top;
+    c.hf_s = h_flow_film;
+    c.h_grow = h_top;
     c.dv_b = dv_col;
     c.dv_slosh = dv_slosh;
     let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
@@ -343,7 +352,7 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     (*ds)[U_U] = r[3];
 
     wall_rates(x, env, q_wl, q_wu, r[4] + dv_col, ds);
-    boundary_ledger(b, c.h_press, c.h_u, out_b * CH[0] + out_s * h_ls, ds);
+    boundary_ledger(b, c.h_press, c.h_u, out_b * flow_enthalpy(0u, pu) + out_s * h_flow_film, ds);
     (*ds)[E_WORK] = -pu * dv_slosh;
     (*ds)[E_PUMP] = q_pump;
     (*ds)[VENT_TVS] = tv.vent;

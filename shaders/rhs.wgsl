@@ -55,7 +55,10 @@ struct EvapTail {
     tvs_s: f32,
     h_tvs_s: f32,
     h_ls: f32,
-    h_lb: f32,
+    /// What the layer's draws carry (its enthalpy plus the flow work P/ρ) and what its growth
+    /// brings from below (the bulk's or the top layer's likewise), J/kg (nodes::rhs).
+    hf_s: f32,
+    h_grow: f32,
     h_fg: f32,
     h_vap_gas: f32,
     /// Real-gas vapour at the ullage state: u_v, rho_v and the chain-rule slopes.
@@ -118,7 +121,7 @@ fn evap_tail(c: EvapTail, m: f32) -> array<f32, 5> {
     let e_evap = max(m, 0.0) * (c.h_ls + c.h_fg) + min(m, 0.0) * c.h_vap_gas;
     let dm_v = m + c.press_v - c.vent * c.y;
     let dm_s = -m + c.m_strat - c.out_s - c.tvs_s;
-    let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_lb - c.mix_w - c.out_s * c.h_ls
+    let f_s = c.q_ws + c.q_us - c.q_sb - e_evap + c.m_strat * c.h_grow - c.mix_w - c.out_s * c.hf_s
         + c.q_pump_s - c.tvs_s * c.h_tvs_s;
     let rs = liquid_node_rates(c.pu, f_s, dm_s, c.t_s, c.rho_s);
     let du_u = c.q_wu - c.q_us + e_evap + c.press * c.h_press - c.vent * c.h_u
@@ -236,6 +239,9 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let h_lb = fl_h_l(t_b);
     var c = ullage_tail(s, x, b, vapor, u_vap, c_gas);
     let pu = x.p_u;
+    // What liquid carries when it leaves a node for good: enthalpy plus flow work (nodes::rhs).
+    let hf_s = h_ls + pu / x.rho_s;
+    let hf_b = h_lb + pu / x.rho_b;
 
     (*ds)[M_G] = b.press - c.press_v - b.vent * (1.0 - b.y);
     (*ds)[M_B] = -m_strat - out_b - tvs_b;
@@ -244,7 +250,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let h_tvs_b = tvs_leaving_enthalpy(tv, t_b, h_lb);
     let h_tvs_s = tvs_leaving_enthalpy(tv, t_s, h_ls);
     let q_sb = damp * q_sb_raw;
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b - tvs_b * h_tvs_b;
+    let f_b = q_wb + q_sb - m_strat * hf_b + mix_w - out_b * hf_b + q_pump_b - tvs_b * h_tvs_b;
     let rb = liquid_node_rates(pu, f_b, (*ds)[M_B], t_b, x.rho_b);
     (*ds)[H_B] = rb.x;
     let force = motion_rates(s, d, x, ds);
@@ -262,7 +268,8 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     c.tvs_s = tvs_s;
     c.h_tvs_s = h_tvs_s;
     c.h_ls = h_ls;
-    c.h_lb = h_lb;
+    c.hf_s = hf_s;
+    c.h_grow = hf_b;
     c.dv_b = rb.y;
     c.dv_slosh = dv_slosh;
     let m_evap = implicit_evaporation(s, x, c, kd, dt, (*ds)[M_G]);
@@ -275,7 +282,7 @@ fn rhs_nodes(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<functi
     let rs = vec2<f32>(r[2], r[4]);
 
     wall_rates(x, env, q_wl, q_wu, rs.y + rb.y, ds);
-    boundary_ledger(b, c.h_press, c.h_u, out_s * h_ls + out_b * h_lb, ds);
+    boundary_ledger(b, c.h_press, c.h_u, out_s * hf_s + out_b * hf_b, ds);
     (*ds)[E_WORK] = -pu * dv_slosh;
     (*ds)[E_PUMP] = q_pump;
     (*ds)[VENT_TVS] = tv.vent;

@@ -43,7 +43,9 @@ fn run(dir: &Path, threads: usize, chunk: u64, spec: &str) -> RunReport {
 
 #[test]
 fn until_stops_at_the_same_instance_for_any_threads_and_chunks() {
-    let spec = "boiloff_kg@p50:0.00025";
+    // The median's 95 % half-width is 2.25e-4 kg after 100 instances and 2.04e-4 after 200
+    // (0.00025 until the liquid's flow work moved with it, 2026-12-02): the run stops at 200.
+    let spec = "boiloff_kg@p50:0.000215";
     let (a, b) = (scratch("t1"), scratch("t2"));
     let ra = run(&a, 1, 37, spec);
     let rb = run(&b, 2, 64, spec);
@@ -53,7 +55,7 @@ fn until_stops_at_the_same_instance_for_any_threads_and_chunks() {
     let (_, json) = ra.until.clone().unwrap();
     assert_eq!(json["reached"], true, "{json}");
     assert_eq!(json["instances"], stop, "{json}");
-    assert!(json["half_width"].as_f64().unwrap() <= 0.00025, "{json}");
+    assert!(json["half_width"].as_f64().unwrap() <= 0.000215, "{json}");
     for f in ["instances.parquet", "statistics.parquet"] {
         assert!(
             std::fs::read(a.join(f)).unwrap() == std::fs::read(b.join(f)).unwrap(),
@@ -70,8 +72,8 @@ fn until_stops_at_the_same_instance_for_any_threads_and_chunks() {
         let (lo, hi) = quantile_interval(&s, 0.5, 0.95);
         (hi - lo) / 2.0
     };
-    assert!(half(stop as usize) <= 0.00025);
-    assert!(half(stop as usize - 100) > 0.00025);
+    assert!(half(stop as usize) <= 0.000215);
+    assert!(half(stop as usize - 100) > 0.000215);
     // The stopped run replays: its metadata holds the count it stopped at.
     let (_, record) = replay::replay(&a, stop - 1, None).unwrap();
     let c = replay::run_campaign(&a).unwrap();

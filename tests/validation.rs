@@ -13,8 +13,8 @@ const WINDOW: (f64, f64) = (0.75, 1.33);
 /// Rows the lumped and layered levels miss, with the documented ratios (± 5 %): (tank, fill,
 /// heat, lumped ratio, layered ratio).
 const KNOWN_MISSES: [(&str, f64, f64, f64, f64); 2] = [
-    ("mhtb", 0.90, 54.1, 0.58, 0.58),
-    ("mhtb", 0.90, 20.2, 0.49, 0.50),
+    ("mhtb", 0.90, 54.1, 0.65, 0.65),
+    ("mhtb", 0.90, 20.2, 0.63, 0.64),
 ];
 
 /// Least-squares slope of pressure over [t0, t1], Pa/s.
@@ -63,9 +63,15 @@ fn rate(tank: &str, fill: f64, q: f64, p0: Option<f64>, level: &str) -> f64 {
         format!("campaign.fidelity={level}"),
         format!("ullage.pressure_pa={}", p0.unwrap_or(101_325.0)),
     ];
-    // The sensitivity table of docs/VALIDATION.md: extra `key=value` settings, `;`-separated.
+    // The sensitivity tables of docs/VALIDATION.md: extra `key=value` settings, `;`-separated;
+    // `layered.*` keys go to the layered level only (the other levels refuse the section).
     if let Ok(extra) = std::env::var("CRYOSLOSH_VALIDATION_SET") {
-        sets.extend(extra.split(';').filter(|s| !s.is_empty()).map(String::from));
+        sets.extend(
+            extra
+                .split(';')
+                .filter(|s| !s.is_empty() && (level == "layered" || !s.starts_with("layered.")))
+                .map(String::from),
+        );
     }
     let refs: Vec<&str> = sets.iter().map(String::as_str).collect();
     let c = load(campaign, &refs);

@@ -523,10 +523,12 @@ class Model:
         share = p["pressurant_vapor_share"] if st["has_pressurization"] else zero
         press_v = b["press"] * share
         pu = x["p_ullage"]
+        # Liquid leaving a node for good carries its enthalpy plus the flow work P/rho.
+        hf_s, hf_b = h_ls + pu / layer["rho"], h_lb + pu / bulk["rho"]
 
         ds[M_G] = b["press"] - press_v - b["vent"] * (1.0 - y)
         ds[M_B] = -m_strat - out_b
-        f_b = q_wb + q_sb - m_strat * h_lb - out_b * h_lb
+        f_b = q_wb + q_sb - m_strat * hf_b - out_b * hf_b
         dh_b, dv_b = liquid_node_rates(pu, f_b, ds[M_B], bulk)
         ds[H_B] = dh_b
         self.motion_rates(p, s, d, x, ds)
@@ -537,7 +539,7 @@ class Model:
             e_evap = xp.maximum(mm, 0.0) * (h_ls + h_fg) + xp.minimum(mm, 0.0) * h_vap_gas
             dm_v = mm + press_v - b["vent"] * y
             dm_s = -mm + m_strat - out_s
-            f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - out_s * h_ls
+            f_s = q_ws + q_us - q_sb - e_evap + m_strat * hf_b - out_s * hf_s
             dh_s, dv_s = liquid_node_rates(pu, f_s, dm_s, layer)
             du_u = (
                 q_wu - q_us + e_evap + b["press"] * h_press - b["vent"] * h_u + pu * (dv_s + dv_b) - pu * dv_slosh
@@ -583,7 +585,7 @@ class Model:
         ds[PRESS_IN] = b["press"]
         ds[E_PRESS] = b["press"] * h_press
         ds[E_VENT] = b["vent"] * h_u
-        ds[E_OUT] = out_s * h_ls + out_b * h_lb
+        ds[E_OUT] = out_s * hf_s + out_b * hf_b
         ds[E_WORK] = -pu * dv_slosh
         return ds
 

@@ -334,6 +334,12 @@ pub fn rhs<T: Real>(
     // Autogenous pressurant is vapour: it enters M_V (in `tail`), helium enters M_G.
     let press_v = b.press_kg_s * boundary::pressurant_vapor_share::<T>(g);
     let pu = x.p_ullage_pa;
+    // What liquid carries when it leaves a node for good (the layer's growth from the bulk, the
+    // engine's draw): its enthalpy plus the flow work P/ρ, which the node's own P dV work
+    // (`liquid_node_rates`) pays as its volume shrinks. Without it the liquid left behind gained
+    // P/ρ per kilogram (a closed LH2 tank at uniform saturation and no heat cooled its layer and
+    // warmed its bulk; a drained one warmed). Equal-mass exchanges carry the enthalpy difference.
+    let (hf_s, hf_b) = (h_ls + pu / layer.rho, h_lb + pu / bulk.rho);
 
     // Slots evaporation does not move.
     ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * y.rsub(1.0);
@@ -345,7 +351,7 @@ pub fn rhs<T: Real>(
         tvs.leaving_enthalpy(bulk.t, h_lb),
         tvs.leaving_enthalpy(layer.t, h_ls),
     );
-    let f_b = q_wb + q_sb - m_strat * h_lb + mix_w - out_b * h_lb + q_pump_b - tvs_b * h_tvs_b;
+    let f_b = q_wb + q_sb - m_strat * hf_b + mix_w - out_b * hf_b + q_pump_b - tvs_b * h_tvs_b;
     let (dh_b, dv_b) = liquid_node_rates(pu, f_b, ds[M_B], &bulk);
     ds[H_B] = dh_b;
     let force = boundary::motion_rates(g, s, d, x, ds);
@@ -361,7 +367,7 @@ pub fn rhs<T: Real>(
         let e_evap = m.max_c(0.0) * (h_ls + h_fg) + m.min_c(0.0) * h_vap_gas;
         let dm_v = m + press_v - b.vent_kg_s * y;
         let dm_s = -m + m_strat - out_s - tvs_s;
-        let f_s = q_ws + q_us - q_sb - e_evap + m_strat * h_lb - mix_w - out_s * h_ls + q_pump_s
+        let f_s = q_ws + q_us - q_sb - e_evap + m_strat * hf_b - mix_w - out_s * hf_s + q_pump_s
             - tvs_s * h_tvs_s;
         let (dh_s, dv_s) = liquid_node_rates(pu, f_s, dm_s, &layer);
         let du_u = q_wu - q_us + e_evap + b.press_kg_s * h_press - b.vent_kg_s * h_u
@@ -392,7 +398,7 @@ pub fn rhs<T: Real>(
     ds[U_U] = du_u;
 
     boundary::wall_rates(g, &tank, x, &env, q_wl, q_wu, dv_s + dv_b, ds);
-    boundary::boundary_ledger(&b, h_press, h_u, out_s * h_ls + out_b * h_lb, ds);
+    boundary::boundary_ledger(&b, h_press, h_u, out_s * hf_s + out_b * hf_b, ds);
     ds[E_WORK] = -pu * dv_slosh;
     ds[E_PUMP] = q_pump;
     ds[VENT_TVS] = tvs.vent_kg_s;

@@ -58,6 +58,7 @@ struct Wall<'a, T> {
 )]
 fn boundary_layer_sources<T: Real>(
     prof: &Profile<T>,
+    h_flow: &[T; NL_MAX],
     fits: &[NodeFits<T>; NL_MAX],
     liq: &thermal::ConvectionProps<T>,
     wall: &Wall<'_, T>,
@@ -71,20 +72,20 @@ fn boundary_layer_sources<T: Real>(
             * boundary_layer::mass_flow_per_perimeter(liq, wall.a_ax, wall.dtw_k, x);
         let entrained = (target - bl_m).max_c(0.0);
         bl_m += entrained;
-        bl_e += entrained * prof.h[k];
-        let room = (bl_m * (prof.h[k] + fits[k].dh_dt * wall.dtw_k) - bl_e).max_c(0.0);
+        bl_e += entrained * h_flow[k];
+        let room = (bl_m * (h_flow[k] + fits[k].dh_dt * wall.dtw_k) - bl_e).max_c(0.0);
         let carried = wall.q_band[k].max_c(0.0).min(room);
         bl_e += carried;
         let share = if k == top {
             c(1.0)
         } else {
             let h_bl = bl_e / bl_m.max_c(1.0e-30);
-            ((prof.h[k + 1] - h_bl) / (fits[k].dh_dt * wall.detrain_width_k) + 0.5)
+            ((h_flow[k + 1] - h_bl) / (fits[k].dh_dt * wall.detrain_width_k) + 0.5)
                 .clamp_c(0.0, 1.0)
         };
         let (out_m, out_e) = (share * bl_m, share * bl_e);
         src.mass[k] += out_m - entrained;
-        src.energy[k] += out_e - entrained * prof.h[k] + (wall.q_band[k] - carried);
+        src.energy[k] += out_e - entrained * h_flow[k] + (wall.q_band[k] - carried);
         if k == top {
             return out_m;
         }
@@ -205,6 +206,16 @@ pub fn rhs<T: Real>(
         mh += m_k * prof.h[k];
     }
     let (t_mean, h_mean) = (mt / m_liq, mh / m_liq);
+    // What liquid carries when it leaves a layer or the film for good (boundary layer, remap,
+    // the film's growth, the draws): its enthalpy plus the flow work P/ρ, which the node's own
+    // P dV work pays as its volume shrinks (as `nodes::rhs`). Equal-mass exchanges (neighbours,
+    // stirring) carry the enthalpy difference.
+    let pu = x.p_ullage_pa;
+    let mut h_flow = [c::<T>(0.0); NL_MAX];
+    for k in 0..n {
+        h_flow[k] = prof.h[k] + pu / prof.rho[k];
+    }
+    let h_flow_film = film.h + pu / film.rho;
     // The column fades out of the exchanges and the draw over its last share of the liquid, the
     // share below which it merges into the film (as the lumped levels' bulk).
     let bulk_left = (s[M_B] / ((s[M_B] + s[M_S]) * crate::model::BULK_MERGE_FRACTION + 1.0e-9))
@@ -268,7 +279,7 @@ pub fn rhs<T: Real>(
         a_ax: x.a_ax,
         detrain_width_k: g.get(|p| p.layered.detrain_width_k),
     };
-    let bl_top_kg_s = boundary_layer_sources(prof, &fits, &liq, &wall, &mut src);
+    let bl_top_kg_s = boundary_layer_sources(prof, &h_flow, &fits, &liq, &wall, &mut src);
 
     // Neighbour exchanges inside the column (`neighbour_exchange`).
     let factor: T = g.get(|p| p.stratification.diffusivity_factor);
@@ -291,7 +302,7 @@ pub fn rhs<T: Real>(
     // penetration (δ² = (π/4) α_eff t, entraining the top layer; α_eff takes the wave's eddy
     // diffusivity at the film's base, coupling III), overturns when colder than it (Lloyd &
     // Moran), with the interface coefficient enhanced by k_h |speed| (coupling II).
-    let (h_top, t_top) = (prof.h[top], prof.t[top]);
+    let t_top = prof.t[top];
     let h_sb = nodes::closure(g, |h| h.h_sb_w_per_m2_k, || c::<T>(0.0))
         + thermal::h_unstable_interface(&liq, x.a_ax, t_top - t_s, r_surf * 0.5)
         + enhancement * speed;
@@ -304,7 +315,7 @@ pub fn rhs<T: Real>(
     let damp = thermal::stiff_blend(z).0;
     let q_sb = damp * h_sb * a_i * (t_s - t_top);
     src.mass[top] -= m_strat;
-    src.energy[top] += q_sb - m_strat * h_top;
+    src.energy[top] += q_sb - m_strat * h_flow[top];
 
     // The jet mixer and the thermodynamic vent's spray stir the whole liquid: the film and every
     // layer relax towards the mass-mean enthalpy at 1/τ (mixer) + ρ Q / m_l (spray turnover);
@@ -334,7 +345,7 @@ pub fn rhs<T: Real>(
         tvs.leaving_enthalpy(t_s, film.h),
     );
     src.mass[0] -= out_b + tvs_b;
-    src.energy[0] -= out_b * prof.h[0] + tvs_b * h_tvs_b;
+    src.energy[0] -= out_b * h_flow[0] + tvs_b * h_tvs_b;
 
     // The column's rates: the remap flux through each boundary from the mass balance, upwind.
     let mut dm_col = c::<T>(0.0);
@@ -348,7 +359,7 @@ pub fn rhs<T: Real>(
             (c(0.0), c(0.0))
         } else {
             let up = flow_in + src.mass[k] - dm_k;
-            (up, upwind(up, prof.h[k], prof.h[k + 1]))
+            (up, upwind(up, h_flow[k], h_flow[k + 1]))
         };
         let flux = src.energy[k] + energy_in - energy_out;
         let (dh_k, dv_k) = nodes::liquid_node_rates(x.p_ullage_pa, flux, dm_k, &fits[k]);
@@ -376,7 +387,6 @@ pub fn rhs<T: Real>(
     let h_u = y * h_vap_gas + y.rsub(1.0) * HELIUM.cp_j_per_kg_k * t_u;
     let h_press = boundary::pressurant_inlet_enthalpy(g, x.p_ullage_pa);
     let press_v = b.press_kg_s * boundary::pressurant_vapor_share::<T>(g);
-    let pu = x.p_ullage_pa;
 
     ds[M_G] = b.press_kg_s - press_v - b.vent_kg_s * y.rsub(1.0);
     let force = boundary::motion_rates(g, s, d, x, ds);
@@ -386,8 +396,9 @@ pub fn rhs<T: Real>(
 
     // The film's slots at evaporation rate m, as `nodes::rhs`: [dm_v, dm_s, dH_s, dU_u, dV_s].
     let film_mass = m_strat - out_s - tvs_s;
-    let film_energy =
-        q_film_wall + q_us - q_sb + m_strat * h_top + film_stir - out_s * film.h - tvs_s * h_tvs_s;
+    let film_energy = q_film_wall + q_us - q_sb + m_strat * h_flow[top] + film_stir
+        - out_s * h_flow_film
+        - tvs_s * h_tvs_s;
     let tail = |m: T| -> [T; 5] {
         let e_evap = m.max_c(0.0) * (film.h + h_fg) + m.min_c(0.0) * h_vap_gas;
         let dm_v = m + press_v - b.vent_kg_s * y;
@@ -417,7 +428,8 @@ pub fn rhs<T: Real>(
     ds[U_U] = du_u;
 
     boundary::wall_rates(g, &tank, x, &env, q_wl, q_wu, dv_s + dv_col, ds);
-    boundary::boundary_ledger(&b, h_press, h_u, out_b * prof.h[0] + out_s * film.h, ds);
+    let e_out = out_b * h_flow[0] + out_s * h_flow_film;
+    boundary::boundary_ledger(&b, h_press, h_u, e_out, ds);
     ds[E_WORK] = -pu * dv_slosh;
     ds[E_PUMP] = q_pump;
     ds[VENT_TVS] = tvs.vent_kg_s;
