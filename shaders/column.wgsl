@@ -281,8 +281,14 @@ fn rhs_column(s: ptr<function, St>, d: Drive, x: Derived, dt: f32, ds: ptr<funct
     let tvs_s = tv.vent * (1.0 - bulk_left);
     let h_tvs_b = tvs_leaving_enthalpy(tv, CT[0], CH[0]);
     let h_tvs_s = tvs_leaving_enthalpy(tv, t_s, h_ls);
+    // The J-T exchanger's heat comes out of the recirculated stream: each layer its mass share.
+    let h_draw = flow_enthalpy(0u, pu);
+    let q_exchanger = tvs_b * (h_tvs_b - h_draw);
     SRC_M[0] -= out_b + tvs_b;
-    SRC_E[0] -= out_b * flow_enthalpy(0u, pu) + tvs_b * h_tvs_b;
+    SRC_E[0] -= (out_b + tvs_b) * h_draw;
+    for (var k = 0u; k < n; k++) {
+        SRC_E[k] -= q_exchanger * P.layer_w[k];
+    }
 
     // The column's rates: the remap flux through each boundary, upwind.
     var dm_col = 0.0;

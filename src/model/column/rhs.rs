@@ -344,8 +344,17 @@ pub fn rhs<T: Real>(
         tvs.leaving_enthalpy(prof.t[0], prof.h[0]),
         tvs.leaving_enthalpy(t_s, film.h),
     );
+    // The J-T flow leaves the bottom layer as the draw does; what its exchanger takes beyond
+    // the liquid's flow enthalpy comes out of the recirculated stream, which the spray bar
+    // returns along the column, so each layer gives its mass share (the lumped levels' bulk
+    // gives it all). Taken from the bottom layer alone it sat 2 K under the lumped bulk on the
+    // TVS coast, found by a user's attack.
+    let q_exchanger = tvs_b * (h_tvs_b - h_flow[0]);
     src.mass[0] -= out_b + tvs_b;
-    src.energy[0] -= out_b * h_flow[0] + tvs_b * h_tvs_b;
+    src.energy[0] -= (out_b + tvs_b) * h_flow[0];
+    for k in 0..n {
+        src.energy[k] -= q_exchanger * prof.w[k];
+    }
 
     // The column's rates: the remap flux through each boundary from the mass balance, upwind.
     let mut dm_col = c::<T>(0.0);
