@@ -52,10 +52,6 @@ struct Wall<'a, T> {
 /// layer. (Not to the film: the film is the conduction layer under the interface, which the
 /// boundary layer's liquid, of the order of the whole column per hour at 1 g, would swamp.)
 /// Returns the boundary layer's flow into the top layer, kg/s.
-#[expect(
-    clippy::needless_range_loop,
-    reason = "layer k reads five arrays and the layer above it"
-)]
 fn boundary_layer_sources<T: Real>(
     prof: &Profile<T>,
     h_flow: &[T; NL_MAX],
