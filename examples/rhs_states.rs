@@ -4,7 +4,11 @@
 //! ```text
 //! cargo run --release --example rhs_states -- CAMPAIGN --out states.parquet [--rows 1000] [--set K=V]
 //! cargo run --release --example rhs_states -- CAMPAIGN --time [--rows 1000] [--seconds 2]
+//! cargo run --release --example rhs_states -- CAMPAIGN --initial --instances N --out start.parquet
 //! ```
+//!
+//! `--initial` writes instead one row per instance, its state at t = 0, in instance order (where
+//! `benches/reference/solution.py` starts its whole-mission runs).
 //!
 //! The instances are the campaign's own dispersion samples (`montecarlo::plan::Plan`, the
 //! campaign's seed, `--instances` of them). Each is integrated by the engine's fixed-step path,
@@ -136,20 +140,25 @@ fn trajectory_rows(c: &Campaign, picks: &[u64]) -> Vec<Row> {
     out
 }
 
-/// `rows` states of `instances` dispersed instances of `c`.
-fn sample_rows(c: &Campaign, instances: u64, rows: usize, seed: u64) -> Vec<Row> {
+/// The first `instances` dispersed instances of `c` (the campaign's seed), as `run` samples them.
+fn members(c: &Campaign, instances: u64) -> Vec<Campaign> {
     let plan = Plan {
         campaign: c,
         seed: c.seed,
         total: instances,
     };
-    let members: Vec<Campaign> = (0..instances)
+    (0..instances)
         .map(|i| match plan.resolve(i).1 {
             Ok(Some(ci)) => ci,
             Ok(None) => c.clone(),
             Err(e) => panic!("instance {i} rejected: {e}"),
         })
-        .collect();
+        .collect()
+}
+
+/// `rows` states of `instances` dispersed instances of `c`.
+fn sample_rows(c: &Campaign, instances: u64, rows: usize, seed: u64) -> Vec<Row> {
+    let members = members(c, instances);
     let mut rng = Rng(seed);
     let mut picks: Vec<Vec<u64>> = vec![Vec::new(); members.len()];
     for _ in 0..rows {
@@ -164,6 +173,15 @@ fn sample_rows(c: &Campaign, instances: u64, rows: usize, seed: u64) -> Vec<Row>
         .par_iter()
         .zip(&picks)
         .flat_map_iter(|(ci, pk)| trajectory_rows(ci, pk))
+        .collect()
+}
+
+/// The initial state of each of the first `instances` instances of `c`, in instance order (the
+/// start of `benches/reference/solution.py`'s whole-mission runs).
+fn initial_rows(c: &Campaign, instances: u64) -> Vec<Row> {
+    members(c, instances)
+        .iter()
+        .flat_map(|ci| trajectory_rows(ci, &[0]))
         .collect()
 }
 
@@ -433,7 +451,7 @@ fn time(groups: &[LaneGroup], threads: usize, seconds: f64) -> f64 {
 }
 
 const USAGE: &str = "usage: rhs_states CAMPAIGN (--out FILE | --time) [--rows N] [--instances N] \
-                     [--seed N] [--seconds S] [--set KEY=VALUE]...";
+                     [--seed N] [--seconds S] [--initial] [--set KEY=VALUE]...";
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -443,7 +461,7 @@ fn main() -> anyhow::Result<()> {
     let (mut values, mut sets) = (Vec::new(), Vec::new());
     while i < args.len() {
         match args[i].as_str() {
-            "--time" => i += 1,
+            "--time" | "--initial" => i += 1,
             "--out" | "--rows" | "--instances" | "--seed" | "--seconds" | "--set" => {
                 let v = args
                     .get(i + 1)
@@ -495,7 +513,11 @@ fn main() -> anyhow::Result<()> {
         c.name,
         c.params.fidelity.name()
     );
-    let sampled = sample_rows(&c, instances, rows, seed);
+    let sampled = if args.iter().any(|a| a == "--initial") {
+        initial_rows(&c, instances)
+    } else {
+        sample_rows(&c, instances, rows, seed)
+    };
     if let Some(out) = flag("--out") {
         write(&out, &c, &sampled)?;
         println!("{} rows of {} -> {out}", sampled.len(), c.name);
