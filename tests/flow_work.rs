@@ -2,11 +2,11 @@
 
 mod common;
 use common::{load, LEVELS};
-use cryoslosh::simulate::{simulate, History, HISTORY_COLUMNS};
+use cryoslosh::simulate::{simulate, History};
 
-fn column(h: &History, name: &str) -> Vec<f64> {
-    let i = HISTORY_COLUMNS.iter().position(|c| *c == name).unwrap();
-    h.columns[i].clone()
+fn column<'a>(h: &'a History, name: &str) -> &'a [f64] {
+    h.column(name)
+        .unwrap_or_else(|| panic!("no history column {name}"))
 }
 
 /// The MHTB tank at 90 % fill, saturated at its lock-up pressure throughout, with no heat

@@ -219,12 +219,22 @@ fn gpu_matches_cpu_on_the_unbaffled_variants_within_their_f32_conditioning() {
     let trade = load("tank_design_trade", &[]);
     // The first burn's thrust is dispersed: its acceleration moves through the dry mass.
     let nudge = 1.0 + F32_HALF_ULP;
+    let phase = |name: &str| trade.phases.iter().find(|p| p.name == name).unwrap();
     let nudged = load(
         "tank_design_trade",
         &[
-            &format!("vehicle.dry_mass_kg={}", 22_000.0 * nudge),
-            &format!("phases.restart.thrust_n={}", 110_000.0 * nudge),
-            &format!("phases.coast.gravity_m_s2={}", 0.01 * nudge),
+            &format!(
+                "vehicle.dry_mass_kg={}",
+                trade.params.vehicle.dry_mass_kg * nudge
+            ),
+            &format!(
+                "phases.restart.thrust_n={}",
+                phase("restart").thrust_n * nudge
+            ),
+            &format!(
+                "phases.coast.gravity_m_s2={}",
+                phase("coast").gravity_m_s2 * nudge
+            ),
         ],
     );
     let unbaffled = |v: &cryoslosh::campaign::variants::Variant| {

@@ -8,7 +8,7 @@ use cryoslosh::model::flight::Environment;
 use cryoslosh::model::insulation::{
     leak, mli_flux, Foam, Mli, MliCoefficients, Stack, Surroundings, STEFAN_BOLTZMANN,
 };
-use cryoslosh::simulate::{simulate, History, HISTORY_COLUMNS};
+use cryoslosh::simulate::{simulate, History};
 use std::process::Command;
 
 /// The modified Lockheed equation written out independently of `model::insulation` (no shared
@@ -243,8 +243,9 @@ fn leak_follows_the_wall_temperature_and_the_surroundings() {
 }
 
 fn column(h: &History, name: &str) -> Vec<f64> {
-    let i = HISTORY_COLUMNS.iter().position(|c| *c == name).unwrap();
-    h.columns[i].clone()
+    h.column(name)
+        .unwrap_or_else(|| panic!("no history column {name}"))
+        .to_vec()
 }
 
 /// Mean recorded heat leak per phase, W.

@@ -329,13 +329,7 @@ fn a_tank_run_dry_ends_at_the_crossing_whatever_the_step() {
             q.diverged_reason
         );
         assert_eq!(Some(q.final_time_s), q.depleted_time_s, "{set:?}");
-        let col = |name: &str| {
-            let i = cryoslosh::simulate::HISTORY_COLUMNS
-                .iter()
-                .position(|c| *c == name)
-                .unwrap();
-            *h.columns[i].last().unwrap()
-        };
+        let col = |name: &str| *h.column(name).unwrap().last().unwrap();
         assert_eq!(col("time_s"), q.final_time_s, "{set:?}: last history row");
         let m_l0 = c.params.fill_fraction
             * c.params.tank.volume_m3()

@@ -32,6 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -40,7 +41,6 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import lumped_rhs as L  # noqa: E402
 from bench import example  # noqa: E402
-from fluid_tank import NS  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
@@ -105,7 +105,8 @@ def main():
         p, d, dt, s0, _ = L.split(cols)
         if np.any(d["d_burning"]) or not np.all(dt == a.dt):
             sys.exit("expected a hold phase at the given step")
-        duration = float(re.search(r"duration_s\s*=\s*([0-9.eE+]+)", open(campaign).read()).group(1))
+        with open(campaign, "rb") as f:
+            duration = float(tomllib.load(f)["phases"][0]["duration_s"])
         steps = int(round(duration / a.dt))
         if abs(steps * a.dt - duration) > 1e-9 * duration:
             sys.exit(f"--dt {a.dt} does not divide the phase's {duration} s")
