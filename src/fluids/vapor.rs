@@ -110,6 +110,8 @@ impl FluidProps {
     /// The vapour's residual state and its partial derivatives at `t_k` (K, ≥ 1 K) and density
     /// `rho` (kg/m³): what an ullage node needs to recover T from its energy (Newton on
     /// [`VaporState::du_res_dt`]) and to carry dP/dt through the chain rule.
+    // Inlined so that the ullage Newton loop, which reads two of its fields, computes only those.
+    #[inline(always)]
     pub fn vapor_state<T: Real>(&self, t_k: T, rho_kg_per_m3: T) -> VaporState<T> {
         let t = t_k.max_c(1.0);
         let tau = t.rdiv(self.t_crit_k);

@@ -245,7 +245,7 @@ impl Real for Counted {
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Counted {
         Counted(f(0))
     }
-    fn lane(self, _: usize) -> f64 {
+    fn lane(&self, _: usize) -> f64 {
         self.0
     }
     fn map(self, f: impl Fn(f64) -> f64) -> Counted {

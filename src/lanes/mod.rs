@@ -65,8 +65,8 @@ pub trait Real:
     fn splat(v: f64) -> Self;
     /// Lane `i` is `f(i)`.
     fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
-    /// Lane `i`.
-    fn lane(self, i: usize) -> f64;
+    /// Lane `i` (by reference: a lane group's value is read in place, not copied out first).
+    fn lane(&self, i: usize) -> f64;
     /// `f` applied to every lane.
     fn map(self, f: impl Fn(f64) -> f64) -> Self;
     /// `f` applied lane by lane to `self` and `o`.
@@ -194,8 +194,8 @@ impl Real for f64 {
         f(0)
     }
     #[inline(always)]
-    fn lane(self, _: usize) -> f64 {
-        self
+    fn lane(&self, _: usize) -> f64 {
+        *self
     }
     #[inline(always)]
     fn map(self, f: impl Fn(f64) -> f64) -> f64 {
@@ -230,9 +230,19 @@ fn lanes_from<V: Copy + Default>(mut f: impl FnMut(usize) -> V) -> [V; WIDTH] {
     out
 }
 
-/// One boolean per lane of a [`Lanes`].
+/// One boolean per lane of a [`Lanes`], held as a 64-bit word per lane (all ones or zero): the
+/// layout a vector compare produces and a blend consumes, so that a compare feeding a select
+/// stays in vector registers (an array of `bool` was packed to bytes and widened again at every
+/// select).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LaneMask(pub [bool; WIDTH]);
+#[repr(align(64))]
+pub struct LaneMask(pub [u64; WIDTH]);
+
+/// The lane word of `b`: all ones for true.
+#[inline(always)]
+fn word(b: bool) -> u64 {
+    (b as u64).wrapping_neg()
+}
 
 impl BitAnd for LaneMask {
     type Output = LaneMask;
@@ -261,22 +271,23 @@ impl Not for LaneMask {
 impl Mask for LaneMask {
     #[inline(always)]
     fn splat(b: bool) -> LaneMask {
-        LaneMask([b; WIDTH])
+        LaneMask([word(b); WIDTH])
     }
     #[inline(always)]
-    fn from_fn(f: impl FnMut(usize) -> bool) -> LaneMask {
-        LaneMask(lanes_from(f))
+    fn from_fn(mut f: impl FnMut(usize) -> bool) -> LaneMask {
+        LaneMask(lanes_from(|i| word(f(i))))
     }
     #[inline(always)]
     fn lane(self, i: usize) -> bool {
-        self.0[i]
+        self.0[i] != 0
     }
     #[inline(always)]
     fn any(self) -> bool {
-        self.0.iter().any(|&b| b)
+        self.0.iter().fold(0, |a, &w| a | w) != 0
     }
+    #[inline(always)]
     fn all(self) -> bool {
-        self.0.iter().all(|&b| b)
+        self.0.iter().fold(u64::MAX, |a, &w| a & w) != 0
     }
 }
 
@@ -298,7 +309,7 @@ impl Real for Lanes {
         Lanes(lanes_from(f))
     }
     #[inline(always)]
-    fn lane(self, i: usize) -> f64 {
+    fn lane(&self, i: usize) -> f64 {
         self.0[i]
     }
     #[inline(always)]
@@ -311,7 +322,7 @@ impl Real for Lanes {
     }
     #[inline(always)]
     fn test(self, o: Lanes, f: impl Fn(f64, f64) -> bool) -> LaneMask {
-        LaneMask(lanes_from(|i| f(self.0[i], o.0[i])))
+        LaneMask(lanes_from(|i| word(f(self.0[i], o.0[i]))))
     }
     // The transcendental kernels are called in plain loops (no closure in between) so that
     // their inlined bodies sit in the loop the compiler vectorises.
@@ -341,7 +352,7 @@ impl Real for Lanes {
     }
     #[inline(always)]
     fn select(m: LaneMask, a: Lanes, b: Lanes) -> Lanes {
-        Lanes(lanes_from(|i| if m.0[i] { a.0[i] } else { b.0[i] }))
+        Lanes(lanes_from(|i| if m.0[i] != 0 { a.0[i] } else { b.0[i] }))
     }
 }
 

@@ -138,8 +138,10 @@ pub fn rk4_step<T: Real>(
     };
     let n = used_slots(g);
     let half = dt * 0.5;
-    let k2 = evaluate(g, &axpy(s, half, &k1, n), &drive(t + half), dt).rates;
-    let k3 = evaluate(g, &axpy(s, half, &k2, n), &drive(t + half), dt).rates;
+    // The two midpoint stages share one drive (the trajectory at t + dt/2).
+    let d_half = drive(t + half);
+    let k2 = evaluate(g, &axpy(s, half, &k1, n), &d_half, dt).rates;
+    let k3 = evaluate(g, &axpy(s, half, &k2, n), &d_half, dt).rates;
     let k4 = evaluate(g, &axpy(s, dt, &k3, n), &drive(t + dt), dt).rates;
     let w = dt / 6.0;
     for i in 0..n {
