@@ -218,7 +218,7 @@ impl Mask for CountedMask {
     fn from_fn(mut f: impl FnMut(usize) -> bool) -> CountedMask {
         CountedMask(f(0))
     }
-    fn lane(self, _: usize) -> bool {
+    fn lane(&self, _: usize) -> bool {
         self.0
     }
     fn any(self) -> bool {

@@ -28,8 +28,8 @@ pub trait Mask:
     fn splat(b: bool) -> Self;
     /// Lane `i` is `f(i)`.
     fn from_fn(f: impl FnMut(usize) -> bool) -> Self;
-    /// Lane `i`.
-    fn lane(self, i: usize) -> bool;
+    /// Lane `i` (by reference, as [`Real::lane`]: a lane group's mask is read in place).
+    fn lane(&self, i: usize) -> bool;
     /// Whether any lane is set.
     fn any(self) -> bool;
     /// Whether every lane is set.
@@ -170,8 +170,8 @@ impl Mask for bool {
     fn from_fn(mut f: impl FnMut(usize) -> bool) -> bool {
         f(0)
     }
-    fn lane(self, _: usize) -> bool {
-        self
+    fn lane(&self, _: usize) -> bool {
+        *self
     }
     fn any(self) -> bool {
         self
@@ -278,7 +278,7 @@ impl Mask for LaneMask {
         LaneMask(lanes_from(|i| word(f(i))))
     }
     #[inline(always)]
-    fn lane(self, i: usize) -> bool {
+    fn lane(&self, i: usize) -> bool {
         self.0[i] != 0
     }
     #[inline(always)]
