@@ -402,13 +402,18 @@ impl<T: Real> TankLanes<T> {
                 // One cap solve per lane: the bottom dome's or the top dome's, whichever holds
                 // the surface (the cylinder lanes ignore it).
                 let bottom = v.le(self.dome_volume);
-                let cap_v = T::select(bottom, v, self.volume - v);
-                let w = self.a * cap_fraction(cap_v * 2.0 / self.dome_volume).0;
+                let barrel = v.lt(self.volume - self.dome_volume);
                 let cyl = (self.a + (v - self.dome_volume) / self.disc_area)
                     .max(self.a)
                     .min(self.a + self.length);
+                // Skipped where every lane's surface is in the barrel (a capsule's usual level).
+                if !(bottom | !barrel).any() {
+                    return T::select(full, self.height, cyl);
+                }
+                let cap_v = T::select(bottom, v, self.volume - v);
+                let w = self.a * cap_fraction(cap_v * 2.0 / self.dome_volume).0;
                 let top = (self.height - w).max_c(0.0);
-                let z = T::select(v.lt(self.volume - self.dome_volume), cyl, top);
+                let z = T::select(barrel, cyl, top);
                 let z = T::select(bottom, w, z);
                 T::select(full, self.height, z)
             }
@@ -452,10 +457,15 @@ impl<T: Real> TankLanes<T> {
                 let z2 = self.a + self.length;
                 // One zone per lane: the bottom dome's below z1, the top dome's above z2.
                 let bottom = z.le(z1);
-                let zone = self.zone_area(T::select(bottom, z, self.height - z));
+                let barrel = z.lt(z2);
                 let cyl = self.dome_area + self.radius * (2.0 * PI) * (z - z1);
+                // Skipped where every lane's surface is in the barrel.
+                if !(bottom | !barrel).any() {
+                    return cyl;
+                }
+                let zone = self.zone_area(T::select(bottom, z, self.height - z));
                 let top = (self.wall_area - zone).max_c(0.0);
-                T::select(bottom, zone, T::select(z.lt(z2), cyl, top))
+                T::select(bottom, zone, T::select(barrel, cyl, top))
             }
         }
     }

@@ -89,9 +89,9 @@ fn lanes_with_different_phases_and_steps_stay_exact() {
     let plan = Plan {
         campaign: &c,
         seed: 11,
-        total: 8,
+        total: WIDTH as u64,
     };
-    let records = assert_lanes_match("lh2_upper_stage, dispersed dt", &plan, 8);
+    let records = assert_lanes_match("lh2_upper_stage, dispersed dt", &plan, WIDTH as u64);
     let mut steps: Vec<u64> = records.iter().map(|r| r.summary.steps).collect();
     steps.dedup();
     assert!(
@@ -113,9 +113,9 @@ fn a_diverging_lane_leaves_the_others_exact() {
     let plan = Plan {
         campaign: &c,
         seed: 2,
-        total: 8,
+        total: WIDTH as u64,
     };
-    let records = assert_lanes_match("lox_ascent, dispersed dt", &plan, 8);
+    let records = assert_lanes_match("lox_ascent, dispersed dt", &plan, WIDTH as u64);
     let first = &records[..WIDTH];
     assert!(
         first.iter().any(|r| r.summary.diverged) && first.iter().any(|r| !r.summary.diverged),

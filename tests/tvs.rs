@@ -263,7 +263,10 @@ fn tvs_lane_group_equals_one_instance_at_a_time() {
                     "phases.0.dt_s=20".into(),
                     "phases.0.duration_s=30000".into(),
                     format!("tvs.jt_flow_kg_s={}", 8e-4 + 1e-4 * i as f64),
-                    format!("propellant.fill_fraction={}", 0.3 + 0.07 * i as f64),
+                    format!(
+                        "propellant.fill_fraction={}",
+                        0.3 + 0.56 * i as f64 / WIDTH as f64
+                    ),
                     format!("tank.heat_leak_w={}", 40.0 + 3.0 * i as f64),
                     format!("phases.0.tvs={}", i + 1 < WIDTH),
                 ];

@@ -115,6 +115,32 @@ pub fn pow(x: f64, y: f64) -> f64 {
     exp(y * ln(x))
 }
 
+/// Below this magnitude libm's `sin(x)` is `x` and `cos(x)` is 1 exactly (glibc returns them
+/// without evaluating anything: `|x| < 2⁻²⁶` for sin, `|x| < 2⁻²⁷` for cos).
+const TRIG_TINY: f64 = 7.450_580_596_923_828e-9; // 2⁻²⁷
+
+/// `x.sin()`, returning `x` itself for `|x| < 2⁻²⁷` without the libm call: a pendulum at rest
+/// (the slosh angle of every hold and unexcited coast is 0) no longer pays glibc's
+/// rounding-mode save and restore per lane and right-hand side. The same bits as libm.
+#[inline(always)]
+pub fn sin(x: f64) -> f64 {
+    if x.abs() < TRIG_TINY {
+        x
+    } else {
+        x.sin()
+    }
+}
+
+/// `x.cos()`, returning 1 for `|x| < 2⁻²⁷` without the libm call (see [`sin`]).
+#[inline(always)]
+pub fn cos(x: f64) -> f64 {
+    if x.abs() < TRIG_TINY {
+        1.0
+    } else {
+        x.cos()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -167,6 +193,28 @@ mod tests {
         assert_eq!(ln(0.0), f64::NEG_INFINITY);
         assert_eq!(ln(f64::INFINITY), f64::INFINITY);
         assert!(ln(-1.0).is_nan() && ln(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn sin_and_cos_are_libm_s_bits() {
+        let tiny = [
+            0.0,
+            -0.0,
+            1e-300,
+            5e-324,
+            1e-12,
+            7.45e-9,
+            TRIG_TINY,
+            2.0 * TRIG_TINY,
+        ];
+        let wide = spread(1.0e-9, 10.0, 20_000);
+        for x in tiny.into_iter().chain(wide) {
+            for v in [x, -x] {
+                assert_eq!(sin(v).to_bits(), v.sin().to_bits(), "sin({v:e})");
+                assert_eq!(cos(v).to_bits(), v.cos().to_bits(), "cos({v:e})");
+            }
+        }
+        assert!(sin(f64::NAN).is_nan() && cos(f64::INFINITY).is_nan());
     }
 
     #[test]

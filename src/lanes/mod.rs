@@ -14,11 +14,12 @@ pub mod math;
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, BitAnd, BitOr, Div, Mul, MulAssign, Neg, Not, Sub, SubAssign};
 
-/// Instances per lane group of the CPU engine: two AVX2 vectors, so that the right-hand side's
-/// serial chains (Newton iterations of dependent divides) have a second independent half in
-/// flight (lumped MHTB right-hand side 496 → 412 ns per instance against 4 lanes,
-/// `benches/roofline.rs`). Results do not depend on it (lane i is instance i's `f64` work).
-pub const WIDTH: usize = 8;
+/// Instances per lane group of the CPU engine: four AVX2 vectors, so that the right-hand side's
+/// serial chains (Newton iterations of dependent divides) have independent work in flight
+/// (lumped MHTB right-hand side 496 → 412 ns per instance from 4 to 8 lanes, and 8 → 16 lanes
+/// another 10–12 % in right-hand sides per second; docs/ARCHITECTURE.md, "Build target and
+/// width"). Results do not depend on it (lane i is instance i's `f64` work).
+pub const WIDTH: usize = 16;
 
 /// A per-lane boolean: `bool` for one instance, [`LaneMask`] for a lane group.
 pub trait Mask:

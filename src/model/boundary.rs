@@ -8,7 +8,7 @@ use super::state::*;
 use super::thermal;
 use super::Group;
 use crate::fluids::HELIUM;
-use crate::lanes::{c, Mask, Real};
+use crate::lanes::{c, math, Mask, Real};
 
 /// Flows through the tank boundary at one instant, kg/s.
 #[derive(Clone, Copy, Debug, Default)]
@@ -114,7 +114,7 @@ pub fn motion_rates<T: Real>(
         Fidelity::Lumped => {
             let (th, w) = (s[Q1], s[Q1D]);
             let (l, om, ze) = (sl.length_m[0], sl.omega[0], sl.zeta[0]);
-            let (sin, cos) = (th.map(f64::sin), th.map(f64::cos));
+            let (sin, cos) = (th.map(math::sin), th.map(math::cos));
             let acc = -(x.a_ax / l) * sin - ze * 2.0 * om * w - (d.a_lat / l) * cos;
             ds[Q1] = w;
             ds[Q1D] = acc;
@@ -135,7 +135,7 @@ pub fn motion_rates<T: Real>(
     };
     if d.flying.any() {
         let gravity = flight::gravity(s[ALT]);
-        let sin_gamma = d.gamma_rad.map(f64::sin);
+        let sin_gamma = d.gamma_rad.map(math::sin);
         let dv = (d.thrust_n - x.drag_n) / x.vehicle_mass_kg - gravity * sin_gamma;
         ds[VEL] = T::select(d.flying, dv, ds[VEL]);
         ds[ALT] = T::select(d.flying, s[VEL] * sin_gamma, ds[ALT]);

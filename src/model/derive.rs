@@ -10,7 +10,7 @@ use super::state::*;
 use super::Group;
 use crate::fluids::HELIUM;
 use crate::geometry::TankLanes;
-use crate::lanes::{c, Mask, Real, WIDTH};
+use crate::lanes::{c, math, Mask, Real, WIDTH};
 
 /// Smallest wetted or dry share of the wall mass: keeps both wall nodes finite at 0 % and 100 %.
 pub const MIN_WALL_SHARE: f64 = 1.0e-3;
@@ -305,16 +305,24 @@ fn slosh_params<T: Real>(
 
 /// Derive temperatures, volumes and pressures from the state.
 pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
-    let mut out = match g.shared().fidelity {
-        Fidelity::Homogeneous => super::homogeneous::derive(g, s, d),
-        Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(g, s, d),
+    let mut out = Derived::default();
+    derive_into(g, s, d, &mut out);
+    out
+}
+
+/// [`derive`] into `out`, in place (a lane group's derived state is kilobytes: the right-hand
+/// side reuses one instead of moving a new one through every caller).
+pub fn derive_into<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, out: &mut Derived<T>) {
+    match g.shared().fidelity {
+        Fidelity::Homogeneous => *out = super::homogeneous::derive(g, s, d),
+        Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(g, s, d, out),
         Fidelity::Layered => {
             let prof = super::column::profile(g, s);
-            return super::column::derive_column(g, s, d, &prof);
+            *out = super::column::derive_column(g, s, d, &prof);
+            return;
         }
-    };
-    liquid_range(&mut out);
-    out
+    }
+    liquid_range(out);
 }
 
 /// The liquid's temperature range of a level with at most two liquid nodes.
@@ -368,10 +376,10 @@ pub fn motion<T: Real>(
     );
 }
 
-fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
+fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, out: &mut Derived<T>) {
     let fluid = g.shared().fluid;
     let f = fluid.props();
-    let mut out = Derived::default();
+    *out = Derived::default();
     let m_s = s[M_S].max_c(1.0e-12);
     let m_b = s[M_B].max_c(1.0e-12);
     out.t_layer_k = fluid.t_from_h_l_k(s[H_S] / m_s);
@@ -386,8 +394,7 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T>
     out.m_liquid_kg = s[M_S] + s[M_B];
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
     let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
-    finish_nodes(g, s, d, &mut out, v_l, nu);
-    out
+    finish_nodes(g, s, d, out, v_l, nu);
 }
 
 /// What the node levels (`lumped`, `two_mode`, `layered`) derive alike once their liquid is
@@ -411,7 +418,7 @@ pub fn finish_nodes<T: Real>(
         g.get(|p| p.coupling.volume_m3),
     );
     let angle = slosh_angle(g, s, &out.slosh);
-    out.v_ullage_m3 = v_tank - v_l + c_v * angle.map(f64::sin);
+    out.v_ullage_m3 = v_tank - v_l + c_v * angle.map(math::sin);
     let rho_v = s[M_V] / out.v_ullage_m3;
     let (t_u, vapor) = ullage_temperature(fluid, s[M_V], s[M_G], s[U_U], rho_v);
     out.t_ullage_k = t_u;

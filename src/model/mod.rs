@@ -90,40 +90,70 @@ impl<T: Real> Evaluation<T> {
 
 /// Evaluate the right-hand side at state `s` under drive `d`; `dt` is the integrator's step.
 pub fn evaluate<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, dt: T) -> Evaluation<T> {
-    let mut ds = [T::default(); NS];
+    let mut ev = Evaluation {
+        derived: Derived::default(),
+        fluxes: Fluxes::default(),
+        rates: [T::default(); NS],
+    };
+    evaluate_into(g, s, d, dt, &mut ev);
+    ev
+}
+
+/// [`evaluate`] into `ev`, in place: the same numbers without building and moving a new
+/// evaluation through every caller (a lane group's is kilobytes). Slots of `ev.rates` past
+/// [`used_slots`] are left as they are (zero in any evaluation made by [`evaluate`]).
+pub fn evaluate_into<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    d: &Drive<T>,
+    dt: T,
+    ev: &mut Evaluation<T>,
+) {
+    let Evaluation {
+        derived,
+        fluxes,
+        rates,
+    } = ev;
+    rates_into(g, s, d, dt, derived, fluxes, rates);
+}
+
+/// The derivative at `s` written into the first [`used_slots`] of `ds` (zeroed first, the
+/// rest untouched), the derived quantities into `x` and the fluxes into `fl`.
+fn rates_into<T: Real>(
+    g: Group<'_>,
+    s: &State<T>,
+    d: &Drive<T>,
+    dt: T,
+    x: &mut Derived<T>,
+    fl: &mut Fluxes<T>,
+    ds: &mut State<T>,
+) {
+    ds[..used_slots(g)].fill(T::default());
     if g.shared().fidelity == Fidelity::Layered {
         let prof = column::profile(g, s);
-        let x = column::derive_column(g, s, d, &prof);
-        let fluxes = column::rhs(g, s, d, &x, &prof, dt, &mut ds);
-        return Evaluation {
-            derived: x,
-            fluxes,
-            rates: ds,
-        };
+        *x = column::derive_column(g, s, d, &prof);
+        *fl = column::rhs(g, s, d, x, &prof, dt, ds);
+        return;
     }
-    let x = derive::derive(g, s, d);
-    let fluxes = match g.shared().fidelity {
-        Fidelity::Homogeneous => {
-            let b = homogeneous::rhs(g, s, d, &x, dt, &mut ds);
-            Fluxes {
-                boundary: b,
-                ..Default::default()
-            }
-        }
-        Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(g, s, d, &x, dt, &mut ds),
+    derive::derive_into(g, s, d, x);
+    *fl = match g.shared().fidelity {
+        Fidelity::Homogeneous => Fluxes {
+            boundary: homogeneous::rhs(g, s, d, x, dt, ds),
+            ..Default::default()
+        },
+        Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(g, s, d, x, dt, ds),
         Fidelity::Layered => unreachable!("evaluated above"),
     };
-    Evaluation {
-        derived: x,
-        fluxes,
-        rates: ds,
-    }
 }
 
 /// One classical fourth-order Runge–Kutta step of length `dt` from phase time `t` (the GPU
 /// kernel mirrors this in lockstep); `drive(t)` is the trajectory at time t, with the
 /// relief-valve state held over the step. `k1`, when given, is the derivative already evaluated
 /// at (s, t, dt) by the caller.
+///
+/// The stages are evaluated into one stage state and one rate buffer, over the level's used
+/// slots only, and k1 + 2 k2 + 2 k3 + k4 is summed as they come in the order the formula
+/// reads (the same bits as summing the four at the end): no state is copied per stage.
 pub fn rk4_step<T: Real>(
     g: Group<'_>,
     drive: impl Fn(T) -> Drive<T>,
@@ -132,20 +162,41 @@ pub fn rk4_step<T: Real>(
     dt: T,
     k1: Option<&State<T>>,
 ) {
-    let k1 = match k1 {
-        Some(k) => *k,
-        None => evaluate(g, s, &drive(t), dt).rates,
-    };
     let n = used_slots(g);
+    // What the stages derive on the way, not kept.
+    let (mut x, mut fl) = (Derived::default(), Fluxes::default());
+    let mut k = [T::default(); NS];
+    let k1 = match k1 {
+        Some(k1) => k1,
+        None => {
+            rates_into(g, s, &drive(t), dt, &mut x, &mut fl, &mut k);
+            &k
+        }
+    };
+    let mut sum = [T::default(); NS];
+    sum[..n].copy_from_slice(&k1[..n]);
     let half = dt * 0.5;
     // The two midpoint stages share one drive (the trajectory at t + dt/2).
     let d_half = drive(t + half);
-    let k2 = evaluate(g, &axpy(s, half, &k1, n), &d_half, dt).rates;
-    let k3 = evaluate(g, &axpy(s, half, &k2, n), &d_half, dt).rates;
-    let k4 = evaluate(g, &axpy(s, dt, &k3, n), &drive(t + dt), dt).rates;
+    let mut stage = *s;
+    for i in 0..n {
+        stage[i] = s[i] + half * k1[i];
+    }
+    let mut k = [T::default(); NS];
+    rates_into(g, &stage, &d_half, dt, &mut x, &mut fl, &mut k);
+    for i in 0..n {
+        sum[i] += k[i] * 2.0;
+        stage[i] = s[i] + half * k[i];
+    }
+    rates_into(g, &stage, &d_half, dt, &mut x, &mut fl, &mut k);
+    for i in 0..n {
+        sum[i] += k[i] * 2.0;
+        stage[i] = s[i] + dt * k[i];
+    }
+    rates_into(g, &stage, &drive(t + dt), dt, &mut x, &mut fl, &mut k);
     let w = dt / 6.0;
     for i in 0..n {
-        s[i] += w * (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]);
+        s[i] += w * (sum[i] + k[i]);
     }
 }
 
@@ -153,15 +204,6 @@ pub fn rk4_step<T: Real>(
 pub fn used_slots(g: Group<'_>) -> usize {
     let p = g.shared();
     state::slots_used(p.fidelity, p.layered.layers)
-}
-
-/// s + a·k over the first `n` slots.
-fn axpy<T: Real>(s: &State<T>, a: T, k: &State<T>, n: usize) -> State<T> {
-    let mut out = *s;
-    for (o, &ki) in out[..n].iter_mut().zip(k) {
-        *o += a * ki;
-    }
-    out
 }
 
 /// Share of the initial liquid mass left when the tank counts as dry: the engine stops drawing

@@ -11,7 +11,7 @@ use super::state::*;
 use super::thermal::{self, ConvectionProps};
 use super::Group;
 use crate::fluids::HELIUM;
-use crate::lanes::{c, Real};
+use crate::lanes::{c, math, Real};
 use std::f64::consts::PI;
 
 /// Interfacial and internal fluxes, for the output and the tests.
@@ -357,7 +357,7 @@ pub fn rhs<T: Real>(
     let force = boundary::motion_rates(g, s, d, x, ds);
     let angle = super::derive::slosh_angle(g, s, &x.slosh);
     let c_v: T = g.get(|p| p.coupling.volume_m3);
-    let dv_slosh = c_v * angle.map(f64::cos) * boundary::slosh_angle_rate(g, s, x);
+    let dv_slosh = c_v * angle.map(math::cos) * boundary::slosh_angle_rate(g, s, x);
 
     // The slots evaporation moves, at evaporation rate m: [dm_v, dm_s, dH_s, dU_u, dV_s]. The
     // liquid's expansion work arrives in the ullage; the slosh volume term is external.

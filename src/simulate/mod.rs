@@ -811,20 +811,29 @@ fn integrate_fixed<'a, T: Real>(
     mut history: Option<&mut History>,
 ) -> Vec<LaneRun<'a>> {
     let mut s: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].s0[j]));
-    let mut k1: Option<State<T>> = None;
+    let n = model::used_slots(g);
+    // The group's evaluation at the end of the last step, evaluated in place: the next step's
+    // k1 where every lane may reuse it.
+    let mut ev = Evaluation::<T> {
+        derived: Default::default(),
+        fluxes: Default::default(),
+        rates: [T::default(); state::NS],
+    };
+    let mut have_k1 = false;
     while lanes.iter().any(|l| !l.done) {
         let dt = T::from_fn(|i| lanes[i].dt);
         let tp = T::from_fn(|i| lanes[i].k as f64) * dt;
         let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
         let reuse = lanes.iter().all(|l| l.done || l.reuse);
         let mut next = s;
-        model::rk4_step(g, drive, &mut next, tp, dt, k1.as_ref().filter(|_| reuse));
+        let k1 = (have_k1 && reuse).then_some(&ev.rates);
+        model::rk4_step(g, drive, &mut next, tp, dt, k1);
         let d: Drive<T> = Drive::gather(|i| lanes[i].drive((lanes[i].k + 1) as f64 * lanes[i].dt));
         let active = T::Mask::from_fn(|i| !lanes[i].done);
-        for (sj, nj) in s.iter_mut().zip(next) {
-            *sj = T::select(active, nj, *sj);
+        for (sj, nj) in s[..n].iter_mut().zip(&next[..n]) {
+            *sj = T::select(active, *nj, *sj);
         }
-        let ev = model::evaluate(g, &s, &d, dt);
+        model::evaluate_into(g, &s, &d, dt, &mut ev);
         let mut diverged = T::Mask::splat(false);
         for (i, l) in lanes.iter_mut().enumerate() {
             if l.done {
@@ -845,7 +854,7 @@ fn integrate_fixed<'a, T: Real>(
                 *sj = T::select(stale, gj, *sj);
             }
         }
-        k1 = Some(ev.rates);
+        have_k1 = true;
     }
     lanes
 }
