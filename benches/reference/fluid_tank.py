@@ -20,6 +20,7 @@ T_FROM_H_TOL = 1e-12  # fluids/mod.rs T_FROM_H_TOL
 ULLAGE_NEWTON_MAX = 16  # model/derive.rs
 ULLAGE_NEWTON_TOL = 1e-13  # model/derive.rs
 CAP_MAX_ROUNDS = 100  # geometry.rs cap_fraction
+CAP_START_SPLIT = 0.8  # geometry.rs CAP_START_SPLIT
 SERIES_LIMIT = 1e-2  # geometry.rs
 F64_EPS = 2.220446049250313e-16
 
@@ -446,8 +447,15 @@ def cap_fraction(b, q):
     full = q >= 2.0
     lo = xp.sqrt(q / 3.0)
     hi = xp.minimum(xp.sqrt(q / 2.0), 1.0)
-    theta = (2.0 * PI - xp.arccos(xp.clip(q * 0.5 - 1.0, -1.0, 1.0))) / 3.0
-    guess = 1.0 - xp.cos(theta) * 2.0
+    # geometry.rs cap_fraction's start: two fixed-point rounds from each end, split at 0.8.
+    low_start = lo
+    for _ in range(2):
+        low_start = xp.sqrt(q / (3.0 - low_start))
+    r = 2.0 - q
+    y = r * (1.0 / 3.0)
+    for _ in range(2):
+        y = (r + y * y * y) * (1.0 / 3.0)
+    guess = xp.where(q < CAP_START_SPLIT, low_start, 1.0 - y)
     t = xp.where((guess > lo) & (guess < hi), guess, (lo + hi) * 0.5)
 
     def body(c):

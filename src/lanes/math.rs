@@ -119,25 +119,30 @@ pub fn pow(x: f64, y: f64) -> f64 {
 /// without evaluating anything: `|x| < 2⁻²⁶` for sin, `|x| < 2⁻²⁷` for cos).
 const TRIG_TINY: f64 = 7.450_580_596_923_828e-9; // 2⁻²⁷
 
-/// `x.sin()`, returning `x` itself for `|x| < 2⁻²⁷` without the libm call: a pendulum at rest
-/// (the slosh angle of every hold and unexcited coast is 0) no longer pays glibc's
-/// rounding-mode save and restore per lane and right-hand side. The same bits as libm.
+/// `x.sin()` in every lane, skipping libm where every lane's |x| < 2⁻²⁷ (the result is `x`): a
+/// pendulum at rest (the slosh angle of every hold and unexcited coast is 0) no longer pays
+/// glibc's rounding-mode save and restore per lane and right-hand side. The same bits as libm.
+/// The test is on the whole group: a per-lane branch around the call is flattened by the
+/// compiler, which may call `sin` speculatively.
 #[inline(always)]
-pub fn sin(x: f64) -> f64 {
-    if x.abs() < TRIG_TINY {
+pub fn sin<T: super::Real>(x: T) -> T {
+    let tiny = x.abs().lt(T::splat(TRIG_TINY));
+    if super::Mask::all(tiny) {
         x
     } else {
-        x.sin()
+        T::select(tiny, x, x.map(f64::sin))
     }
 }
 
-/// `x.cos()`, returning 1 for `|x| < 2⁻²⁷` without the libm call (see [`sin`]).
+/// `x.cos()` in every lane, skipping libm where every lane's |x| < 2⁻²⁷ (the result is 1; see
+/// [`sin`]).
 #[inline(always)]
-pub fn cos(x: f64) -> f64 {
-    if x.abs() < TRIG_TINY {
-        1.0
+pub fn cos<T: super::Real>(x: T) -> T {
+    let tiny = x.abs().lt(T::splat(TRIG_TINY));
+    if super::Mask::all(tiny) {
+        T::splat(1.0)
     } else {
-        x.cos()
+        T::select(tiny, T::splat(1.0), x.map(f64::cos))
     }
 }
 
@@ -197,6 +202,7 @@ mod tests {
 
     #[test]
     fn sin_and_cos_are_libm_s_bits() {
+        use crate::lanes::Real;
         let tiny = [
             0.0,
             -0.0,
@@ -212,9 +218,19 @@ mod tests {
             for v in [x, -x] {
                 assert_eq!(sin(v).to_bits(), v.sin().to_bits(), "sin({v:e})");
                 assert_eq!(cos(v).to_bits(), v.cos().to_bits(), "cos({v:e})");
+                // A lane group mixing tiny and ordinary arguments.
+                let g = crate::lanes::Lanes::from_fn(|i| if i % 2 == 0 { v } else { 0.5 + v });
+                let (s, c) = (sin(g), cos(g));
+                for i in 0..crate::lanes::WIDTH {
+                    assert_eq!(s.lane(i).to_bits(), g.lane(i).sin().to_bits());
+                    assert_eq!(c.lane(i).to_bits(), g.lane(i).cos().to_bits());
+                }
             }
         }
         assert!(sin(f64::NAN).is_nan() && cos(f64::INFINITY).is_nan());
+        let zero = crate::lanes::Lanes::splat(0.0);
+        assert_eq!(sin(zero), zero);
+        assert_eq!(cos(zero), crate::lanes::Lanes::splat(1.0));
     }
 
     #[test]

@@ -114,7 +114,7 @@ pub fn motion_rates<T: Real>(
         Fidelity::Lumped => {
             let (th, w) = (s[Q1], s[Q1D]);
             let (l, om, ze) = (sl.length_m[0], sl.omega[0], sl.zeta[0]);
-            let (sin, cos) = (th.map(math::sin), th.map(math::cos));
+            let (sin, cos) = (math::sin(th), math::cos(th));
             let acc = -(x.a_ax / l) * sin - ze * 2.0 * om * w - (d.a_lat / l) * cos;
             ds[Q1] = w;
             ds[Q1D] = acc;
@@ -135,7 +135,7 @@ pub fn motion_rates<T: Real>(
     };
     if d.flying.any() {
         let gravity = flight::gravity(s[ALT]);
-        let sin_gamma = d.gamma_rad.map(math::sin);
+        let sin_gamma = math::sin(d.gamma_rad);
         let dv = (d.thrust_n - x.drag_n) / x.vehicle_mass_kg - gravity * sin_gamma;
         ds[VEL] = T::select(d.flying, dv, ds[VEL]);
         ds[ALT] = T::select(d.flying, s[VEL] * sin_gamma, ds[ALT]);

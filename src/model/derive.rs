@@ -418,7 +418,7 @@ pub fn finish_nodes<T: Real>(
         g.get(|p| p.coupling.volume_m3),
     );
     let angle = slosh_angle(g, s, &out.slosh);
-    out.v_ullage_m3 = v_tank - v_l + c_v * angle.map(math::sin);
+    out.v_ullage_m3 = v_tank - v_l + c_v * math::sin(angle);
     let rho_v = s[M_V] / out.v_ullage_m3;
     let (t_u, vapor) = ullage_temperature(fluid, s[M_V], s[M_G], s[U_U], rho_v);
     out.t_ullage_k = t_u;

@@ -357,7 +357,7 @@ pub fn rhs<T: Real>(
     let force = boundary::motion_rates(g, s, d, x, ds);
     let angle = super::derive::slosh_angle(g, s, &x.slosh);
     let c_v: T = g.get(|p| p.coupling.volume_m3);
-    let dv_slosh = c_v * angle.map(math::cos) * boundary::slosh_angle_rate(g, s, x);
+    let dv_slosh = c_v * math::cos(angle) * boundary::slosh_angle_rate(g, s, x);
 
     // The slots evaporation moves, at evaporation rate m: [dm_v, dm_s, dH_s, dU_u, dV_s]. The
     // liquid's expansion work arrives in the ullage; the slosh volume term is external.

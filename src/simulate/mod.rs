@@ -546,13 +546,17 @@ impl<'a> LaneRun<'a> {
         }
         let x = &ev.derived;
         let a = (x.a_ax * x.a_ax + d.a_lat * d.a_lat).sqrt();
-        let sigma = p.fluid.surface_tension().sigma_n_per_m(x.t_layer_k);
+        let surface = p.fluid.surface_tension();
         let r = p.tank.radius_m();
-        let bond = x.rho_bulk * a * r * r / sigma;
+        let lift = x.rho_bulk * a * r * r;
+        // σ(T) ≤ σ₀ for a liquid above 0 K (the check before this ensures one), so lift/σ₀ ≤ the
+        // Bond number as computed: where it clears the bound, σ's libm `pow` is not needed.
+        let low_bond = !(lift / surface.sigma0_n_per_m >= SLOSH_BOND_MIN)
+            && lift / surface.sigma_n_per_m(x.t_layer_k) < SLOSH_BOND_MIN;
         let angle = slosh_angle(Group::one(p), s, &x.slosh)
             .abs()
             .max(mode2_angle(Group::one(p), s, &x.slosh));
-        if bond < SLOSH_BOND_MIN || angle > SLOSH_ANGLE_MAX_RAD {
+        if low_bond || angle > SLOSH_ANGLE_MAX_RAD {
             self.tracker.summary.slosh_out_of_range = true;
             self.slosh_out_s += dt_s;
         }

@@ -397,7 +397,7 @@ pub fn rhs<T: Real>(
     let force = boundary::motion_rates(g, s, d, x, ds);
     let angle = derive::slosh_angle(g, s, &x.slosh);
     let c_v: T = g.get(|p| p.coupling.volume_m3);
-    let dv_slosh = c_v * angle.map(math::cos) * boundary::slosh_angle_rate(g, s, x);
+    let dv_slosh = c_v * math::cos(angle) * boundary::slosh_angle_rate(g, s, x);
 
     // The film's slots at evaporation rate m, as `nodes::rhs`: [dm_v, dm_s, dH_s, dU_u, dV_s].
     let film_mass = m_strat - out_s - tvs_s;
