@@ -294,7 +294,13 @@ fn rhs_rate(gs: &[LaneGroup]) -> f64 {
         let mut acc = 0.0;
         for _ in 0..n {
             for lg in gs {
-                evaluate_into(Group::of(&lg.params), black_box(&lg.s), &lg.d, lg.dt, &mut ev);
+                evaluate_into(
+                    Group::of(&lg.params),
+                    black_box(&lg.s),
+                    &lg.d,
+                    lg.dt,
+                    &mut ev,
+                );
                 acc += black_box(ev.rates[0]).0[0];
             }
         }
