@@ -82,11 +82,18 @@ pub fn tank_modes<T: Real>(
         return [mode_shape(0, h / r), mode_shape(1, h / r)];
     }
     let mut lane = [[ModeShape::<f64>::default(); 2]; WIDTH];
+    // The tank's table axes are worked out once for lanes of the same tank (all of them, unless
+    // the dome ratio or barrel length is dispersed).
+    let mut axes: Option<DomeAxes> = None;
     for (i, m) in lane.iter_mut().enumerate().take(T::LANES) {
         let r = radius.lane(i);
-        *m = domed_modes(
-            k.lane(i),
-            length.lane(i) / r,
+        let (k_i, l_i) = (k.lane(i), length.lane(i) / r);
+        let a = match axes {
+            Some(a) if a.k.to_bits() == k_i.to_bits() && a.l.to_bits() == l_i.to_bits() => a,
+            _ => *axes.insert(DomeAxes::new(k_i, l_i)),
+        };
+        *m = domed_modes_on(
+            &a,
             level_m.lane(i) / r,
             liquid_volume_m3.lane(i) / (r * r * r),
         );
@@ -170,8 +177,41 @@ fn column(data: &[f64], base: usize, (idx, w): &([usize; 4], [f64; 4])) -> [f64;
 /// (ω² and m_n then change by < 1e-4); a top-dome surface above u = 0.96 keeps its ω² r_s/g and
 /// m_n/(ρ r_s³), with r_s floored at [`MIN_SURFACE_RADIUS_RATIO`] R.
 pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [ModeShape; 2] {
-    let (kn, kw) = linear(table::NK, (k.log2() - table::LOG2K_0) / table::LOG2K_STEP);
-    let (l, z, v) = (l_over_r.max(0.0), z_over_r.max(0.0), v_over_r3.max(1e-300));
+    domed_modes_on(&DomeAxes::new(k, l_over_r), z_over_r, v_over_r3)
+}
+
+/// What [`domed_modes`] reads of the tank alone: its dome ratio `k` and barrel length `l` L/R
+/// as given, their table nodes and weights (log₂ k, and β = exp(−2 ξ_1 L/R) for the top dome).
+#[derive(Clone, Copy, Debug)]
+struct DomeAxes {
+    k: f64,
+    l: f64,
+    kn: [usize; 2],
+    kw: [f64; 2],
+    bn: [usize; 2],
+    bw: [f64; 2],
+}
+
+impl DomeAxes {
+    fn new(k: f64, l_over_r: f64) -> DomeAxes {
+        let (kn, kw) = linear(table::NK, (k.log2() - table::LOG2K_0) / table::LOG2K_STEP);
+        let beta = (-2.0 * XI[0] * l_over_r.max(0.0)).exp() * (table::N_BETA - 1) as f64;
+        let (bn, bw) = linear(table::N_BETA, beta);
+        DomeAxes {
+            k,
+            l: l_over_r,
+            kn,
+            kw,
+            bn,
+            bw,
+        }
+    }
+}
+
+/// [`domed_modes`] on a tank's precomputed [`DomeAxes`].
+fn domed_modes_on(axes: &DomeAxes, z_over_r: f64, v_over_r3: f64) -> [ModeShape; 2] {
+    let (k, kn, kw) = (axes.k, axes.kn, axes.kw);
+    let (l, z, v) = (axes.l.max(0.0), z_over_r.max(0.0), v_over_r3.max(1e-300));
     // Per-node values (a_1, b_1, a_2, b_2) and how they become (ω² R/a, m_n/m_l).
     let mut q = [0.0; 4];
     let scale: [f64; 4] = if z <= k {
@@ -194,8 +234,7 @@ pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [Mod
         let u = ((z - k - l) / k).min(1.0);
         let rs = (1.0 - u * u).max(0.0).sqrt().max(MIN_SURFACE_RADIUS_RATIO);
         let x = u / table::TOP_U_MAX * (table::N_TOP - 1) as f64;
-        let beta = (-2.0 * XI[0] * l).exp() * (table::N_BETA - 1) as f64;
-        let (bn, bw) = linear(table::N_BETA, beta);
+        let (bn, bw) = (axes.bn, axes.bw);
         let cr = catmull_rom(table::N_TOP, x);
         for (&i, w) in kn.iter().zip(kw) {
             for (&b, wb) in bn.iter().zip(bw) {

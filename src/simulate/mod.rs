@@ -551,8 +551,8 @@ impl<'a> LaneRun<'a> {
         let lift = x.rho_bulk * a * r * r;
         // σ(T) ≤ σ₀ for a liquid above 0 K (the check before this ensures one), so lift/σ₀ ≤ the
         // Bond number as computed: where it clears the bound, σ's libm `pow` is not needed.
-        let low_bond = !(lift / surface.sigma0_n_per_m >= SLOSH_BOND_MIN)
-            && lift / surface.sigma_n_per_m(x.t_layer_k) < SLOSH_BOND_MIN;
+        let clears = lift / surface.sigma0_n_per_m >= SLOSH_BOND_MIN;
+        let low_bond = !clears && lift / surface.sigma_n_per_m(x.t_layer_k) < SLOSH_BOND_MIN;
         let angle = slosh_angle(Group::one(p), s, &x.slosh)
             .abs()
             .max(mode2_angle(Group::one(p), s, &x.slosh));
