@@ -77,6 +77,18 @@ pub struct Evaluation<T: Real = f64> {
     pub rates: State<T>,
 }
 
+/// All zeros: what [`evaluate_into`] writes over (a state array this long has no derived
+/// `Default`).
+impl<T: Real> Default for Evaluation<T> {
+    fn default() -> Self {
+        Evaluation {
+            derived: Derived::default(),
+            fluxes: Fluxes::default(),
+            rates: [T::default(); NS],
+        }
+    }
+}
+
 impl<T: Real> Evaluation<T> {
     /// Lane `i`.
     pub fn lane(&self, i: usize) -> Evaluation {
@@ -90,11 +102,7 @@ impl<T: Real> Evaluation<T> {
 
 /// Evaluate the right-hand side at state `s` under drive `d`; `dt` is the integrator's step.
 pub fn evaluate<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, dt: T) -> Evaluation<T> {
-    let mut ev = Evaluation {
-        derived: Derived::default(),
-        fluxes: Fluxes::default(),
-        rates: [T::default(); NS],
-    };
+    let mut ev = Evaluation::default();
     evaluate_into(g, s, d, dt, &mut ev);
     ev
 }
@@ -163,7 +171,8 @@ pub fn rk4_step<T: Real>(
     k1: Option<&State<T>>,
 ) {
     let n = used_slots(g);
-    // What the stages derive on the way, not kept.
+    // What the stages derive on the way, not kept; `k` holds k1 when the caller has none, then
+    // each later stage's rates.
     let (mut x, mut fl) = (Derived::default(), Fluxes::default());
     let mut k = [T::default(); NS];
     let k1 = match k1 {
@@ -182,7 +191,6 @@ pub fn rk4_step<T: Real>(
     for i in 0..n {
         stage[i] = s[i] + half * k1[i];
     }
-    let mut k = [T::default(); NS];
     rates_into(g, &stage, &d_half, dt, &mut x, &mut fl, &mut k);
     for i in 0..n {
         sum[i] += k[i] * 2.0;

@@ -818,11 +818,7 @@ fn integrate_fixed<'a, T: Real>(
     let n = model::used_slots(g);
     // The group's evaluation at the end of the last step, evaluated in place: the next step's
     // k1 where every lane may reuse it.
-    let mut ev = Evaluation::<T> {
-        derived: Default::default(),
-        fluxes: Default::default(),
-        rates: [T::default(); state::NS],
-    };
+    let mut ev = Evaluation::<T>::default();
     let mut have_k1 = false;
     while lanes.iter().any(|l| !l.done) {
         let dt = T::from_fn(|i| lanes[i].dt);
