@@ -144,14 +144,16 @@ fn rates_into<T: Real>(
         return;
     }
     derive::derive_into(g, s, d, x);
-    *fl = match g.shared().fidelity {
-        Fidelity::Homogeneous => Fluxes {
-            boundary: homogeneous::rhs(g, s, d, x, dt, ds),
-            ..Default::default()
-        },
-        Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(g, s, d, x, dt, ds),
+    match g.shared().fidelity {
+        Fidelity::Homogeneous => {
+            *fl = Fluxes {
+                boundary: homogeneous::rhs(g, s, d, x, dt, ds),
+                ..Default::default()
+            }
+        }
+        Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(g, s, d, x, dt, ds, fl),
         Fidelity::Layered => unreachable!("evaluated above"),
-    };
+    }
 }
 
 /// One classical fourth-order Runge–Kutta step of length `dt` from phase time `t` (the GPU

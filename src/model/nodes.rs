@@ -192,7 +192,8 @@ pub fn rhs<T: Real>(
     x: &Derived<T>,
     dt: T,
     ds: &mut State<T>,
-) -> Fluxes<T> {
+    out: &mut Fluxes<T>,
+) {
     let p0 = g.shared();
     let f = p0.fluid.props();
     let off = vapor_energy_offset(p0.fluid);
@@ -404,18 +405,18 @@ pub fn rhs<T: Real>(
     ds[VENT_TVS] = tvs.vent_kg_s;
     ds[E_VENT] += tvs_b * h_tvs_b + tvs_s * h_tvs_s;
 
-    Fluxes {
-        evap_kg_s: m_evap,
-        evap_relaxation_per_s: evap_relaxation,
-        strat_kg_s: m_strat,
-        mix_kg_s: m_mix,
-        boundary_layer_kg_s: c(0.0),
-        q_wall_liquid_w: q_wl,
-        q_wall_ullage_w: q_wu,
-        q_ullage_layer_w: q_us,
-        boundary: b,
-        slosh_force_n: force,
-    }
+    // Written field by field into the caller's buffer: a returned `Fluxes` of lanes (2.5 KB)
+    // was copied into place on every right-hand side.
+    out.evap_kg_s = m_evap;
+    out.evap_relaxation_per_s = evap_relaxation;
+    out.strat_kg_s = m_strat;
+    out.mix_kg_s = m_mix;
+    out.boundary_layer_kg_s = c(0.0);
+    out.q_wall_liquid_w = q_wl;
+    out.q_wall_ullage_w = q_wu;
+    out.q_ullage_layer_w = q_us;
+    out.boundary = b;
+    out.slosh_force_n = force;
 }
 
 /// Interfacial evaporation ṁ = K (P_sat(T_s) − P_v) (MODEL.md §4, [fix]: vapour partial pressure):
