@@ -19,6 +19,8 @@ Not ported: `[insulation]` (the Lockheed MLI / foam leak solve, src/model/insula
 `homogeneous` and `two_mode` levels. `make_rhs` refuses such inputs.
 """
 
+import math
+
 from fluid_tank import (
     ALT,
     Backend,
@@ -45,7 +47,7 @@ from fluid_tank import (
     Q1D,
     Tank,
     ULLAGE_NEWTON_MAX,
-    ULLAGE_NEWTON_TOL,
+    ULLAGE_NEWTON_STEP_TOL,
     U_U,
     VEL,
     VENT_G,
@@ -316,7 +318,7 @@ class Model:
             r = m_v * (u0 + self.off + v["u_res"]) + cv_g * t - u_j
             step = r / (m_v * (cv0 + v["du_res_dt"]) + cv_g)
             t = xp.where(done, t, t - step)
-            done = done | (xp.abs(step) <= xp.abs(t) * ULLAGE_NEWTON_TOL) | xp.isnan(step)
+            done = done | (xp.abs(step) <= xp.abs(t) * ULLAGE_NEWTON_STEP_TOL) | xp.isnan(step)
             return t, done
 
         t, _ = self.b.loop(ULLAGE_NEWTON_MAX, body, (t, xp.zeros_like(t, dtype=bool)), lambda c: c[1])
@@ -325,20 +327,22 @@ class Model:
     # --- thermal closures (src/model/thermal.rs) -----------------------------------------
 
     def rayleigh(self, pr, accel, dt_k, length):
+        # thermal::rayleigh: ν = μ/ρ and α = k/(ρ c_p) substituted (two divides).
         xp = self.b.xp
-        nu = pr["mu"] / pr["rho"]
-        alpha = pr["k"] / (pr["rho"] * pr["cp"])
         l3 = length * length * length
-        ra = xp.maximum(accel, 0.0) * xp.abs(pr["beta"]) * xp.abs(dt_k) * l3 / (nu * alpha)
-        return ra, nu / alpha
+        drive = xp.maximum(accel, 0.0) * xp.abs(pr["beta"]) * xp.abs(dt_k) * l3
+        ra = drive * (pr["rho"] * pr["rho"] * pr["cp"]) / (pr["mu"] * pr["k"])
+        return ra, pr["mu"] * pr["cp"] / pr["k"]
 
     def h_vertical_wall(self, pr, accel, dt_k, length_m):
+        # thermal::h_vertical_wall: the powers in logarithms (three log, two exp).
         xp = self.b.xp
         length = xp.maximum(length_m, 1.0e-3)
         ra, prn = self.rayleigh(pr, accel, dt_k, length)
-        f = (xp.power(0.492 / prn, 9.0 / 16.0) + 1.0) ** (8.0 / 27.0)
+        pr_term = xp.exp((math.log(0.492) - xp.log(prn)) * (9.0 / 16.0))
         with with_errstate(xp):
-            nu = xp.exp(xp.log(ra) * (1.0 / 6.0)) * 0.387 / f + 0.825
+            ln_core = xp.log(ra) * (1.0 / 6.0) - xp.log(pr_term + 1.0) * (8.0 / 27.0)
+        nu = xp.exp(ln_core) * 0.387 + 0.825
         return nu * nu * pr["k"] / length
 
     def h_stable_interface(self, pr, accel, dt_k, length_m):

@@ -432,18 +432,22 @@ pub fn finish_nodes<T: Real>(
     out.t_wall_wet_k = tww;
 }
 
-/// Iteration cap of [`ullage_temperature`]'s Newton solve (it needs 3–6).
+/// Iteration cap of [`ullage_temperature`]'s Newton solve (it needs 3–5).
 const ULLAGE_NEWTON_MAX: usize = 16;
-/// A lane stops once its Newton step is below this share of T.
-const ULLAGE_NEWTON_TOL: f64 = 1e-13;
+/// A lane stops after a Newton step below this share of T: Newton's error after a step s is
+/// (T f''/2f') (s/T)² relative, under 1e-13 for |s| ≤ 1e-7 T since T f''/f' (the relative
+/// change of the heat capacity m_v (c_v⁰ + ∂u_res/∂T) + m_g c_v,He over T) stays below 10 on
+/// the fits' range (`tests/ullage_temperature.rs` checks the result against a bisected root).
+pub const ULLAGE_NEWTON_STEP_TOL: f64 = 1e-7;
 
 /// Ullage temperature from its energy `u_j` (J) with `m_v` kg of real-gas vapour at density
 /// `rho_v` (kg/m³) and `m_g` kg of ideal helium: the root of
 /// m_v (u⁰(T) + e_0 + u_res(T, ρ_v)) + m_g c_v,He T = U (u⁰: the vapour's ideal-gas energy,
 /// [`crate::fluids::FluidProps::vapor_ideal`]; e_0: [`vapor_energy_offset`]), by Newton from the
-/// root of the ideal gas linearised at the middle of the liquid range, until the step is below
-/// 1e-13 T (each lane stops moving on its own; near saturation at 2 MPa the start is 20 K low and
-/// it takes six steps). Also returns the vapour's state and ideal-gas energy there.
+/// root of the ideal gas linearised at the middle of the liquid range, until a step below
+/// 1e-7 T has been taken (then within 1e-13 T of the root, [`ULLAGE_NEWTON_STEP_TOL`]; each lane
+/// stops moving on its own; three steps at MHTB conditions, five near saturation at 2 MPa,
+/// where the start is 20 K low). Also returns the vapour's state and ideal-gas energy there.
 pub fn ullage_temperature<T: Real>(
     fluid: crate::fluids::Fluid,
     m_v: T,
@@ -464,7 +468,7 @@ pub fn ullage_temperature<T: Real>(
         let r = m_v * (u0 + off + v.u_res_j_per_kg) + cv_g * t - u_j;
         let step = r / (m_v * (cv0 + v.du_res_dt) + cv_g);
         t = T::select(done, t, t - step);
-        done = done | step.abs().le(t.abs() * ULLAGE_NEWTON_TOL) | step.is(f64::is_nan);
+        done = done | step.abs().le(t.abs() * ULLAGE_NEWTON_STEP_TOL) | step.is(f64::is_nan);
         if done.all() {
             break;
         }

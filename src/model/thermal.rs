@@ -22,23 +22,30 @@ pub struct ConvectionProps<T = f64> {
     pub beta: T,
 }
 
-/// Rayleigh number g β |ΔT| L³ / (ν α) and Prandtl number.
+/// Rayleigh number g β |ΔT| L³ / (ν α) and Prandtl number ν/α, with ν = μ/ρ and α = k/(ρ c_p)
+/// substituted: Ra = g β |ΔT| L³ ρ² c_p / (μ k), Pr = μ c_p / k (two divides, not four).
 fn rayleigh<T: Real>(p: &ConvectionProps<T>, accel: T, dt_k: T, length_m: T) -> (T, T) {
-    let nu = p.mu / p.rho;
-    let alpha = p.k / (p.rho * p.cp);
     let l3 = length_m * length_m * length_m;
-    let ra = accel.max_c(0.0) * p.beta.abs() * dt_k.abs() * l3 / (nu * alpha);
-    (ra, nu / alpha)
+    let drive = accel.max_c(0.0) * p.beta.abs() * dt_k.abs() * l3;
+    let ra = drive * (p.rho * p.rho * p.cp) / (p.mu * p.k);
+    (ra, p.mu * p.cp / p.k)
 }
+
+/// ln 0.492, the Prandtl-number constant of Churchill & Chu's correlation.
+const LN_CHURCHILL_CHU_PR: f64 = -0.709_276_562_489_829;
 
 /// Vertical-wall natural convection, Churchill & Chu (1975), valid for all Ra:
 /// Nu = {0.825 + 0.387 Ra^(1/6) / [1 + (0.492/Pr)^(9/16)]^(8/27)}². Returns h, W/(m²·K).
+///
+/// The powers are taken in logarithms, 0.387 exp(ln Ra / 6 − (8/27) ln(1 + e^((9/16)(ln 0.492 −
+/// ln Pr)))): three `ln` and two `exp`, where two `pow`, an `exp` and a `ln` are four of each
+/// (Ra = 0 gives ln Ra = −∞ and Nu = 0.825², as before).
 pub fn h_vertical_wall<T: Real>(p: &ConvectionProps<T>, accel: T, dt_k: T, length_m: T) -> T {
     let length = length_m.max_c(1.0e-3);
     let (ra, pr) = rayleigh(p, accel, dt_k, length);
-    let f = (pr.rdiv(0.492).powf(c(9.0 / 16.0)) + 1.0).powf(c(8.0 / 27.0));
-    // Ra^(1/6) = exp(ln Ra / 6): both branch-free lane kernels (Ra = 0 gives 0).
-    let nu = (ra.ln() * (1.0 / 6.0)).exp() * 0.387 / f + 0.825;
+    let pr_term = ((pr.ln().rsub(LN_CHURCHILL_CHU_PR)) * (9.0 / 16.0)).exp();
+    let ln_core = ra.ln() * (1.0 / 6.0) - (pr_term + 1.0).ln() * (8.0 / 27.0);
+    let nu = ln_core.exp() * 0.387 + 0.825;
     nu * nu * p.k / length
 }
 
@@ -182,5 +189,42 @@ mod tests {
         let (lo, hi) = (stiff_blend(1.0 - 1e-12), stiff_blend(1.0 + 1e-12));
         assert!((lo.0 - hi.0).abs() < 1e-11 && (lo.1 - hi.1).abs() < 1e-11);
         assert_eq!(stiff_blend(1.0), (6.0 / 7.0, 1.0 / 7.0));
+    }
+
+    #[test]
+    fn churchill_chu_constant_is_ln_0_492() {
+        assert_eq!(LN_CHURCHILL_CHU_PR, 0.492_f64.ln());
+    }
+
+    /// The logarithmic form against the correlation as published, on f64 (Ra 1e3..1e15,
+    /// Pr 0.5..10).
+    #[test]
+    fn churchill_chu_in_logarithms_is_the_published_form() {
+        for &(ra, pr) in &[
+            (1e3, 0.7),
+            (1e9, 2.0),
+            (3e12, 1.3),
+            (1e15, 10.0),
+            (5e6, 0.5),
+        ] {
+            // Properties giving that Ra and Pr at L = 1 m, a = 1 m/s², ΔT = 1 K.
+            let (k, mu, cp) = (0.1, 1e-4, pr * 0.1 / 1e-4);
+            let rho = (ra * mu * k / cp).sqrt();
+            let p = ConvectionProps {
+                k,
+                mu,
+                rho,
+                cp,
+                beta: 1.0,
+            };
+            let f = (1.0 + (0.492_f64 / pr).powf(9.0 / 16.0)).powf(8.0 / 27.0);
+            let nu = 0.825 + 0.387 * ra.powf(1.0 / 6.0) / f;
+            let h = h_vertical_wall(&p, 1.0, 1.0, 1.0);
+            assert!(
+                (h - nu * nu * k).abs() <= 1e-13 * h,
+                "Ra {ra} Pr {pr}: {h} {}",
+                nu * nu * k
+            );
+        }
     }
 }
