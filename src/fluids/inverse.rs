@@ -5,6 +5,7 @@
 //! side inverts two of them. 513 nodes, 8 KiB per propellant.
 
 use super::{Fluid, FluidProps};
+use crate::lanes::{Real, WIDTH};
 use std::sync::OnceLock;
 
 /// Intervals of the table, uniform in h over [0, h_l(t_max_k)].
@@ -48,17 +49,25 @@ impl HlInverse {
         self.limits
     }
 
-    /// Normalised temperature x whose enthalpy is close to `h`, clamped to [−1, 1].
-    pub(crate) fn guess(&self, h: f64) -> f64 {
-        let u = (h / self.width).clamp(0.0, INTERVALS as f64);
-        let i = (u as usize).min(INTERVALS - 1);
-        let t = u - i as f64;
+    /// Normalised temperature x whose enthalpy is close to `h`, clamped to [−1, 1], per lane:
+    /// the interval and position in lanes, the four node values gathered per lane, the Hermite
+    /// cubic in lanes (the `f64` operations of one lane in the same order, so the same bits
+    /// whatever the width). Only lanes with 0 < h < h_max use it; a NaN lane reads interval 0.
+    pub(crate) fn guess<T: Real>(&self, h: T) -> T {
+        let u = (h / self.width).clamp_c(0.0, INTERVALS as f64);
+        // u ≥ 0, so truncation is the floor.
+        let mut cell = [0usize; WIDTH];
+        for (l, c) in cell.iter_mut().enumerate().take(T::LANES) {
+            *c = (u.lane(l) as usize).min(INTERVALS - 1);
+        }
+        let t = u - T::from_fn(|l| cell[l] as f64);
         let (t2, t3) = (t * t, t * t * t);
-        let x = (2.0 * t3 - 3.0 * t2 + 1.0) * self.x[i]
-            + (t3 - 2.0 * t2 + t) * self.slope[i]
-            + (3.0 * t2 - 2.0 * t3) * self.x[i + 1]
-            + (t3 - t2) * self.slope[i + 1];
-        x.clamp(-1.0, 1.0)
+        let node = |v: &[f64; INTERVALS + 1], next: usize| T::from_fn(|l| v[cell[l] + next]);
+        let x = (t3 * 2.0 - t2 * 3.0 + 1.0) * node(&self.x, 0)
+            + (t3 - t2 * 2.0 + t) * node(&self.slope, 0)
+            + (t2 * 3.0 - t3 * 2.0) * node(&self.x, 1)
+            + (t3 - t2) * node(&self.slope, 1);
+        x.clamp_c(-1.0, 1.0)
     }
 }
 

@@ -164,7 +164,7 @@ impl Fluid {
     pub fn t_from_h_l_k<T: Real>(self, h_j_per_kg: T) -> T {
         let table = inverse::hl_inverse(self);
         let (base, h_max) = table.limits();
-        let start = h_j_per_kg.map(|h| table.guess(h));
+        let start = table.guess(h_j_per_kg);
         self.props().invert_h_l(h_j_per_kg, base, h_max, start)
     }
 

@@ -81,28 +81,25 @@ pub fn tank_modes<T: Real>(
         let (r, h) = equivalent_cylinder(radius, liquid_volume_m3, radius);
         return [mode_shape(0, h / r), mode_shape(1, h / r)];
     }
-    let mut lane = [[ModeShape::<f64>::default(); 2]; WIDTH];
     // The tank's table axes are worked out once for lanes of the same tank (all of them, unless
     // the dome ratio or barrel length is dispersed).
+    let l_over_r = length / radius;
     let mut axes: Option<DomeAxes> = None;
-    for (i, m) in lane.iter_mut().enumerate().take(T::LANES) {
-        let r = radius.lane(i);
-        let (k_i, l_i) = (k.lane(i), length.lane(i) / r);
-        let a = match axes {
+    let mut lane_axes = [None; WIDTH];
+    for (i, a) in lane_axes.iter_mut().enumerate().take(T::LANES) {
+        let (k_i, l_i) = (k.lane(i), l_over_r.lane(i));
+        *a = Some(match axes {
             Some(a) if a.k.to_bits() == k_i.to_bits() && a.l.to_bits() == l_i.to_bits() => a,
             _ => *axes.insert(DomeAxes::new(k_i, l_i)),
-        };
-        *m = domed_modes_on(
-            &a,
-            level_m.lane(i) / r,
-            liquid_volume_m3.lane(i) / (r * r * r),
-        );
+        });
     }
-    [0, 1].map(|n| ModeShape {
-        mass_ratio: T::from_fn(|i| lane[i][n].mass_ratio),
-        length_ratio: T::from_fn(|i| lane[i][n].length_ratio),
-        omega2_ratio: T::from_fn(|i| lane[i][n].omega2_ratio),
-    })
+    domed_modes_lanes(
+        k,
+        l_over_r,
+        level_m / radius,
+        liquid_volume_m3 / (radius * radius * radius),
+        |i| lane_axes[i].expect("an axis per lane"),
+    )
 }
 
 /// Catmull-Rom nodes and weights at grid coordinate `x` (clamped to [0, n − 1]) on `n` nodes; the
@@ -177,7 +174,111 @@ fn column(data: &[f64], base: usize, (idx, w): &([usize; 4], [f64; 4])) -> [f64;
 /// (ω² and m_n then change by < 1e-4); a top-dome surface above u = 0.96 keeps its ω² r_s/g and
 /// m_n/(ρ r_s³), with r_s floored at [`MIN_SURFACE_RADIUS_RATIO`] R.
 pub fn domed_modes(k: f64, l_over_r: f64, z_over_r: f64, v_over_r3: f64) -> [ModeShape; 2] {
-    domed_modes_on(&DomeAxes::new(k, l_over_r), z_over_r, v_over_r3)
+    let axes = DomeAxes::new(k, l_over_r);
+    domed_modes_lanes(k, l_over_r, z_over_r, v_over_r3, |_| axes)
+}
+
+/// Region of the tank holding the free surface, which picks the table.
+#[derive(Clone, Copy)]
+enum Region {
+    Bottom,
+    Barrel,
+    Top,
+}
+
+/// [`domed_modes`] per lane, with lane i's table axes `axes(i)`. The arithmetic on the tank and
+/// the fill (the region, the grid coordinate, the scale factors: divides and square roots) runs
+/// in lanes; only the table lookup is per lane. Lane i does the `f64` operations of
+/// [`domed_modes`] in the same order, so the same bits.
+fn domed_modes_lanes<T: Real>(
+    k: T,
+    l_over_r: T,
+    z_over_r: T,
+    v_over_r3: T,
+    axes: impl Fn(usize) -> DomeAxes,
+) -> [ModeShape<T>; 2] {
+    let (l, z, v) = (
+        l_over_r.max_c(0.0),
+        z_over_r.max_c(0.0),
+        v_over_r3.max_c(1e-300),
+    );
+    let bottom = z.le(k);
+    let barrel = !bottom & z.lt(k + l);
+    let x_bottom = (z / k).sqrt() * (table::N_SIGMA - 1) as f64;
+    let x_barrel = ((z - k) / table::BARREL_H_MAX).sqrt() * (table::N_BARREL - 1) as f64;
+    let u = ((z - k - l) / k).min_c(1.0);
+    let rs = (u * u)
+        .rsub(1.0)
+        .max_c(0.0)
+        .sqrt()
+        .max_c(MIN_SURFACE_RADIUS_RATIO);
+    let x_top = u / table::TOP_U_MAX * (table::N_TOP - 1) as f64;
+    let x = T::select(bottom, x_bottom, T::select(barrel, x_barrel, x_top));
+    // Per-node values (a_1, b_1, a_2, b_2), from each lane's table.
+    let mut q = [[0.0; 4]; WIDTH];
+    for (i, qi) in q.iter_mut().enumerate().take(T::LANES) {
+        let region = if bottom.lane(i) {
+            Region::Bottom
+        } else if barrel.lane(i) {
+            Region::Barrel
+        } else {
+            Region::Top
+        };
+        *qi = table_values(&axes(i), region, x.lane(i));
+    }
+    let node = |j: usize| T::from_fn(|i| q[i][j]);
+    // How the node values become (ω² R/a, m_n/m_l): ×1 in the bottom dome; the barrel's masses
+    // over V/R³; the top dome's ω² over r_s/R and masses times (r_s/R)³/(V/R³).
+    let one = T::splat(1.0);
+    let omega_scale = T::select(bottom | barrel, one, rs.rdiv(1.0));
+    let mass_scale = T::select(
+        bottom,
+        one,
+        T::select(barrel, v.rdiv(1.0), rs * rs * rs / v),
+    );
+    [0, 1].map(|n| {
+        let omega2 = node(2 * n) * omega_scale;
+        ModeShape {
+            mass_ratio: node(2 * n + 1) * mass_scale,
+            length_ratio: omega2.rdiv(1.0),
+            omega2_ratio: omega2,
+        }
+    })
+}
+
+/// The table's node values (a_1, b_1, a_2, b_2) of `region` at grid coordinate `x`, linear in
+/// the dome-ratio axis (and in β in the top dome) of `axes`, Catmull-Rom along `x`.
+fn table_values(axes: &DomeAxes, region: Region, x: f64) -> [f64; 4] {
+    let (kn, kw) = (axes.kn, axes.kw);
+    let mut q = [0.0; 4];
+    match region {
+        Region::Bottom => {
+            let cr = catmull_rom(table::N_SIGMA, x);
+            for (&i, w) in kn.iter().zip(kw) {
+                let c = column(&table::BOTTOM, 4 * i * table::N_SIGMA, &cr);
+                q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
+            }
+        }
+        Region::Barrel => {
+            let cr = catmull_rom(table::N_BARREL, x);
+            for (&i, w) in kn.iter().zip(kw) {
+                let c = column(&table::BARREL, 4 * i * table::N_BARREL, &cr);
+                q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
+            }
+        }
+        Region::Top => {
+            let (bn, bw) = (axes.bn, axes.bw);
+            let cr = catmull_rom(table::N_TOP, x);
+            for (&i, w) in kn.iter().zip(kw) {
+                for (&b, wb) in bn.iter().zip(bw) {
+                    let base = 4 * table::N_TOP * (b + table::N_BETA * i);
+                    let c = column(&table::TOP, base, &cr);
+                    q.iter_mut().zip(c).for_each(|(a, b)| *a += w * wb * b);
+                }
+            }
+        }
+    }
+    q
 }
 
 /// What [`domed_modes`] reads of the tank alone: its dome ratio `k` and barrel length `l` L/R
@@ -206,54 +307,6 @@ impl DomeAxes {
             bw,
         }
     }
-}
-
-/// [`domed_modes`] on a tank's precomputed [`DomeAxes`].
-fn domed_modes_on(axes: &DomeAxes, z_over_r: f64, v_over_r3: f64) -> [ModeShape; 2] {
-    let (k, kn, kw) = (axes.k, axes.kn, axes.kw);
-    let (l, z, v) = (axes.l.max(0.0), z_over_r.max(0.0), v_over_r3.max(1e-300));
-    // Per-node values (a_1, b_1, a_2, b_2) and how they become (ω² R/a, m_n/m_l).
-    let mut q = [0.0; 4];
-    let scale: [f64; 4] = if z <= k {
-        let x = (z / k).sqrt() * (table::N_SIGMA - 1) as f64;
-        let cr = catmull_rom(table::N_SIGMA, x);
-        for (&i, w) in kn.iter().zip(kw) {
-            let c = column(&table::BOTTOM, 4 * i * table::N_SIGMA, &cr);
-            q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
-        }
-        [1.0; 4]
-    } else if z < k + l {
-        let x = ((z - k) / table::BARREL_H_MAX).sqrt() * (table::N_BARREL - 1) as f64;
-        let cr = catmull_rom(table::N_BARREL, x);
-        for (&i, w) in kn.iter().zip(kw) {
-            let c = column(&table::BARREL, 4 * i * table::N_BARREL, &cr);
-            q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
-        }
-        [1.0, 1.0 / v, 1.0, 1.0 / v]
-    } else {
-        let u = ((z - k - l) / k).min(1.0);
-        let rs = (1.0 - u * u).max(0.0).sqrt().max(MIN_SURFACE_RADIUS_RATIO);
-        let x = u / table::TOP_U_MAX * (table::N_TOP - 1) as f64;
-        let (bn, bw) = (axes.bn, axes.bw);
-        let cr = catmull_rom(table::N_TOP, x);
-        for (&i, w) in kn.iter().zip(kw) {
-            for (&b, wb) in bn.iter().zip(bw) {
-                let base = 4 * table::N_TOP * (b + table::N_BETA * i);
-                let c = column(&table::TOP, base, &cr);
-                q.iter_mut().zip(c).for_each(|(a, b)| *a += w * wb * b);
-            }
-        }
-        let m = rs * rs * rs / v;
-        [1.0 / rs, m, 1.0 / rs, m]
-    };
-    [0, 1].map(|n| {
-        let omega2 = q[2 * n] * scale[2 * n];
-        ModeShape {
-            mass_ratio: q[2 * n + 1] * scale[2 * n + 1],
-            length_ratio: 1.0 / omega2,
-            omega2_ratio: omega2,
-        }
-    })
 }
 
 /// Smooth-wall viscous damping ratio (Mikishev & Dorozhkin, via SP-106 eq. 4.7).
