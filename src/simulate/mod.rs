@@ -819,6 +819,7 @@ fn integrate_fixed<'a, T: Real>(
     // The group's evaluation at the end of the last step, evaluated in place: the next step's
     // k1 where every lane may reuse it.
     let mut ev = Evaluation::<T>::default();
+    let mut work = model::Rk4Work::default();
     let mut have_k1 = false;
     while lanes.iter().any(|l| !l.done) {
         let dt = T::from_fn(|i| lanes[i].dt);
@@ -827,7 +828,7 @@ fn integrate_fixed<'a, T: Real>(
         let reuse = lanes.iter().all(|l| l.done || l.reuse);
         let mut next = s;
         let k1 = (have_k1 && reuse).then_some(&ev.rates);
-        model::rk4_step(g, drive, &mut next, tp, dt, k1);
+        model::rk4_step_in(g, drive, &mut next, tp, dt, k1, &mut work);
         let d: Drive<T> = Drive::gather(|i| lanes[i].drive((lanes[i].k + 1) as f64 * lanes[i].dt));
         let active = T::Mask::from_fn(|i| !lanes[i].done);
         for (sj, nj) in s[..n].iter_mut().zip(&next[..n]) {
