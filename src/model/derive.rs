@@ -437,7 +437,7 @@ const ULLAGE_NEWTON_MAX: usize = 16;
 /// A lane stops after a Newton step below this share of T: Newton's error after a step s is
 /// (T f''/2f') (s/T)² relative, under 1e-13 for |s| ≤ 1e-7 T since T f''/f' (the relative
 /// change of the heat capacity m_v (c_v⁰ + ∂u_res/∂T) + m_g c_v,He over T) stays below 10 on
-/// the fits' range (`tests/ullage_temperature.rs` checks the result against a bisected root).
+/// the fits' range (`tests/real_gas_ullage.rs` checks the result against a bisected root).
 pub const ULLAGE_NEWTON_STEP_TOL: f64 = 1e-7;
 
 /// Ullage temperature from its energy `u_j` (J) with `m_v` kg of real-gas vapour at density
