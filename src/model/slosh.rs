@@ -84,21 +84,20 @@ pub fn tank_modes<T: Real>(
     // The tank's table axes are worked out once for lanes of the same tank (all of them, unless
     // the dome ratio or barrel length is dispersed).
     let l_over_r = length / radius;
-    let mut axes: Option<DomeAxes> = None;
-    let mut lane_axes = [None; WIDTH];
-    for (i, a) in lane_axes.iter_mut().enumerate().take(T::LANES) {
+    let mut lane_axes = [DomeAxes::default(); WIDTH];
+    for i in 0..T::LANES {
         let (k_i, l_i) = (k.lane(i), l_over_r.lane(i));
-        *a = Some(match axes {
+        lane_axes[i] = match i.checked_sub(1).map(|j| lane_axes[j]) {
             Some(a) if a.k.to_bits() == k_i.to_bits() && a.l.to_bits() == l_i.to_bits() => a,
-            _ => *axes.insert(DomeAxes::new(k_i, l_i)),
-        });
+            _ => DomeAxes::new(k_i, l_i),
+        };
     }
     domed_modes_lanes(
         k,
         l_over_r,
         level_m / radius,
         liquid_volume_m3 / (radius * radius * radius),
-        |i| lane_axes[i].expect("an axis per lane"),
+        |i| lane_axes[i],
     )
 }
 
@@ -252,17 +251,14 @@ fn table_values(axes: &DomeAxes, region: Region, x: f64) -> [f64; 4] {
     let (kn, kw) = (axes.kn, axes.kw);
     let mut q = [0.0; 4];
     match region {
-        Region::Bottom => {
-            let cr = catmull_rom(table::N_SIGMA, x);
+        Region::Bottom | Region::Barrel => {
+            let (data, n): (&[f64], usize) = match region {
+                Region::Bottom => (&table::BOTTOM, table::N_SIGMA),
+                _ => (&table::BARREL, table::N_BARREL),
+            };
+            let cr = catmull_rom(n, x);
             for (&i, w) in kn.iter().zip(kw) {
-                let c = column(&table::BOTTOM, 4 * i * table::N_SIGMA, &cr);
-                q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
-            }
-        }
-        Region::Barrel => {
-            let cr = catmull_rom(table::N_BARREL, x);
-            for (&i, w) in kn.iter().zip(kw) {
-                let c = column(&table::BARREL, 4 * i * table::N_BARREL, &cr);
+                let c = column(data, 4 * i * n, &cr);
                 q.iter_mut().zip(c).for_each(|(a, b)| *a += w * b);
             }
         }
@@ -283,7 +279,7 @@ fn table_values(axes: &DomeAxes, region: Region, x: f64) -> [f64; 4] {
 
 /// What [`domed_modes`] reads of the tank alone: its dome ratio `k` and barrel length `l` L/R
 /// as given, their table nodes and weights (log₂ k, and β = exp(−2 ξ_1 L/R) for the top dome).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct DomeAxes {
     k: f64,
     l: f64,

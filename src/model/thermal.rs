@@ -39,7 +39,8 @@ const LN_CHURCHILL_CHU_PR: f64 = -0.709_276_562_489_829;
 ///
 /// The powers are taken in logarithms, 0.387 exp(ln Ra / 6 − (8/27) ln(1 + e^((9/16)(ln 0.492 −
 /// ln Pr)))): three `ln` and two `exp`, where two `pow` (each an `ln` and an `exp`), an `exp`
-/// and a `ln` were three of each, and two divides fewer (Ra = 0 gives ln Ra = −∞ and Nu = 0.825², as before).
+/// and a `ln` were three of each, and two divides fewer (Ra = 0 gives ln Ra = −∞ and
+/// Nu = 0.825², as before).
 pub fn h_vertical_wall<T: Real>(p: &ConvectionProps<T>, accel: T, dt_k: T, length_m: T) -> T {
     let length = length_m.max_c(1.0e-3);
     let (ra, pr) = rayleigh(p, accel, dt_k, length);
