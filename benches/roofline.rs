@@ -363,6 +363,7 @@ fn main() {
         "%512"
     );
     let mut bounds = Vec::new();
+    let mut divide_sites = Vec::new();
     // Per row: shares of the measured time of the flop, divide and kernel floors.
     let mut shares: Vec<[f64; 3]> = Vec::new();
     for (name, sets) in cases {
@@ -374,7 +375,9 @@ fn main() {
             println!("{name:<16} {level:<11} no lane group of 4 compatible, finite instances");
             continue;
         }
+        count::take_divide_sites();
         let (sum, n) = counts(&gs);
+        let sites = count::take_divide_sites();
         let per = |v: u64| v as f64 / n;
         let tr = sum.with_transcendentals();
         let rate = rhs_rate(&gs);
@@ -398,6 +401,12 @@ fn main() {
             100.0 * flops_tr * rate / p.avx2,
             p.avx512.map_or(f64::NAN, |v| 100.0 * flops_tr * rate / v),
         );
+        if std::env::args().any(|a| a == "--divides") {
+            divide_sites.push(format!("{name} {level}: divides and square roots per right-hand side by source line (the kernels' own not included)"));
+            for (at, k) in sites.iter().take(60) {
+                divide_sites.push(format!("  {:>6.2}  {at}", *k as f64 / n));
+            }
+        }
         // Time floors of one instance's right-hand side, ns, if each resource alone bound it.
         let fma_floor = 1e9 * flops_tr / p.avx2;
         let div_floor = 1e9 * per(tr.div + tr.sqrt) / p.div;
@@ -417,6 +426,9 @@ fn main() {
     println!();
     for b in bounds {
         println!("{b}");
+    }
+    for l in divide_sites {
+        println!("{l}");
     }
     let (lo, hi) = shares.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), s| {
         (lo.min(s[0] + s[1].max(s[2])), hi.max(s[0] + s[1].max(s[2])))

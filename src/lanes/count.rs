@@ -164,6 +164,31 @@ thread_local! {
     }) };
 }
 
+thread_local! {
+    static DIVIDE_SITES: std::cell::RefCell<std::collections::HashMap<&'static std::panic::Location<'static>, u64>> =
+        std::cell::RefCell::new(std::collections::HashMap::new());
+}
+
+/// Record one divide or square root at the caller's source line.
+#[track_caller]
+fn divide_site() {
+    let at = std::panic::Location::caller();
+    DIVIDE_SITES.with(|d| *d.borrow_mut().entry(at).or_insert(0) += 1);
+}
+
+/// This thread's divides and square roots by source line since the last call, which resets
+/// them: `(file:line, count)`, most first.
+pub fn take_divide_sites() -> Vec<(String, u64)> {
+    let mut v: Vec<(String, u64)> = DIVIDE_SITES.with(|d| {
+        d.borrow_mut()
+            .drain()
+            .map(|(l, n)| (format!("{}:{}", l.file(), l.line()), n))
+            .collect()
+    });
+    v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    v
+}
+
 /// Add `n` to one class of this thread's tally.
 #[inline]
 fn tally(n: u64, f: impl FnOnce(&mut Counts) -> &mut u64) {
@@ -308,7 +333,9 @@ impl Real for Counted {
         tally(1, |c| &mut c.minmax);
         Counted(self.0.abs())
     }
+    #[track_caller]
     fn sqrt(self) -> Counted {
+        divide_site();
         tally(1, |c| &mut c.sqrt);
         Counted(self.0.sqrt())
     }
@@ -328,7 +355,9 @@ impl Real for Counted {
         tally(1, |c| &mut c.add);
         Counted(k - self.0)
     }
+    #[track_caller]
     fn rdiv(self, k: f64) -> Counted {
+        divide_site();
         tally(1, |c| &mut c.div);
         Counted(k / self.0)
     }
@@ -339,14 +368,22 @@ macro_rules! counted_ops {
     ($($tr:ident $f:ident $op:tt $class:ident;)*) => {$(
         impl $tr for Counted {
             type Output = Counted;
+            #[track_caller]
             fn $f(self, o: Counted) -> Counted {
+                if stringify!($class) == "div" {
+                    divide_site();
+                }
                 tally(1, |c| &mut c.$class);
                 Counted(self.0 $op o.0)
             }
         }
         impl $tr<f64> for Counted {
             type Output = Counted;
+            #[track_caller]
             fn $f(self, o: f64) -> Counted {
+                if stringify!($class) == "div" {
+                    divide_site();
+                }
                 tally(1, |c| &mut c.$class);
                 Counted(self.0 $op o)
             }
