@@ -117,6 +117,7 @@ class Fluid:
         self.t_min, self.t_max = f["t_min_k"], f["t_max_k"]
         self.t_mid = 0.5 * (self.t_min + self.t_max)
         self.t_half = 0.5 * (self.t_max - self.t_min)
+        self.inv_t_half = 1.0 / self.t_half
         self.rs = None  # set by Model (needs R_UNIVERSAL)
         dh = f["dh_l_sat"]
         self.base = poly_integral_f(dh, -1.0)
@@ -140,14 +141,14 @@ class Fluid:
         ln_p = poly(self.f["ln_psat"], xc) + s * (x - xc)
         p = xp.exp(xp.clip(ln_p, -700.0, 700.0))
         limited = xp.abs(ln_p) > 700.0
-        return p, xp.where(limited, 0.0, p * s / self.t_half)
+        return p, xp.where(limited, 0.0, p * s * self.inv_t_half)
 
     def rho_l(self, t):
         return poly(self.f["rho_l"], self.xc(t))
 
     def drho_l_dt(self, t):
         x = self.x_of(t)
-        inside = poly_deriv(self.f["rho_l"], self.xp.clip(x, -1.0, 1.0)) / self.t_half
+        inside = poly_deriv(self.f["rho_l"], self.xp.clip(x, -1.0, 1.0)) * self.inv_t_half
         return self.xp.where(self.xp.abs(x) > 1.0, 0.0, inside)
 
     def cp_l(self, t):
@@ -181,8 +182,8 @@ class Fluid:
         Hermite table, `fluids/inverse.rs`; both converge to the root within rounding)."""
         xp, b = self.xp, self.b
         dh = self.f["dh_l_sat"]
-        below = h / self.cp_lo + self.t_min
-        above = (h - self.h_max) / self.cp_hi + self.t_max
+        below = h * (1.0 / self.cp_lo) + self.t_min
+        above = (h - self.h_max) * (1.0 / self.cp_hi) + self.t_max
         le0, ge_max, nan = h <= 0.0, h >= self.h_max, xp.isnan(h)
         start = xp.clip(2.0 * h / self.h_max - 1.0, -1.0, 1.0)
         start = xp.where(nan, 0.0, start)
@@ -269,8 +270,9 @@ class Fluid:
         xp, f = self.xp, self.f
         t = xp.maximum(t_k, 1.0)
         tau = f["t_crit_k"] / t
+        tau_over_t = tau * tau * (1.0 / f["t_crit_k"])
         y = tau - 1.0
-        r = rho / f["rho_crit_kg_per_m3"]
+        r = rho * (1.0 / f["rho_crit_kg_per_m3"])
         z = kz = u = b1_sum = u2 = 0.0 * t
         for k in range(4, 0, -1):
             c = f["vapor_virial"][(k - 1) * 6 : k * 6]
@@ -291,11 +293,11 @@ class Fluid:
         rt = t * rs
         z_full = z + 1.0
         rtc = rs * f["t_crit_k"]
-        dz_dt = -(tau / t) * b1_sum * r
+        dz_dt = -tau_over_t * b1_sum * r
         return dict(
             z=z_full,
             u_res=u * rtc,
-            du_res_dt=-(tau / t) * u2 * rtc,
+            du_res_dt=-tau_over_t * u2 * rtc,
             du_res_drho=b1_sum * (rtc / f["rho_crit_kg_per_m3"]),
             p=rho * rt * z_full,
             dp_dt=rho * rs * (z_full + t * dz_dt),

@@ -327,12 +327,13 @@ class Model:
     # --- thermal closures (src/model/thermal.rs) -----------------------------------------
 
     def rayleigh(self, pr, accel, dt_k, length):
-        # thermal::rayleigh: ν = μ/ρ and α = k/(ρ c_p) substituted (two divides).
+        # thermal::rayleigh: ν = μ/ρ and α = k/(ρ c_p) substituted (one divide).
         xp = self.b.xp
         l3 = length * length * length
         drive = xp.maximum(accel, 0.0) * xp.abs(pr["beta"]) * xp.abs(dt_k) * l3
-        ra = drive * (pr["rho"] * pr["rho"] * pr["cp"]) / (pr["mu"] * pr["k"])
-        return ra, pr["mu"] * pr["cp"] / pr["k"]
+        inv_mu_k = 1.0 / (pr["mu"] * pr["k"])
+        ra = drive * (pr["rho"] * pr["rho"] * pr["cp"]) * inv_mu_k
+        return ra, pr["mu"] * pr["mu"] * pr["cp"] * inv_mu_k
 
     def h_vertical_wall(self, pr, accel, dt_k, length_m):
         # thermal::h_vertical_wall: the powers in logarithms (three log, two exp).
@@ -370,12 +371,13 @@ class Model:
             s_lo = s_lo * v + 1.0
             v_lo = v_lo * v
         s_hi = s_lo + v_lo * v
-        a = s_lo / s_hi * xp.where(big, v, 1.0)
-        w = xp.where(big, v, v_lo) / s_hi
+        inv_s_hi = 1.0 / s_hi
+        a = s_lo * inv_s_hi * xp.where(big, v, 1.0)
+        w = xp.where(big, v, v_lo) * inv_s_hi
         return a, w
 
     def wall_exchange(self, ua, dt, c_wall, c_fluid, dtemp, forcing):
-        z = dt * ua * (1.0 / c_wall + 1.0 / c_fluid)
+        z = dt * ua * ((c_wall + c_fluid) / (c_wall * c_fluid))
         a, w = self.stiff_blend(z)
         return ua * (a * dtemp + w * dt * forcing)
 
@@ -689,9 +691,11 @@ class Model:
 
 def liquid_node_rates(p_pa, flux_w, dm, n):
     rho, h = n["rho"], n["h"]
-    beta = -n["drho_dt"] / (rho * rho * n["dh_dt"])
-    dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (p_pa * beta + 1.0)
-    return dh, dm / rho + beta * (dh - h * dm)
+    q = 1.0 / (rho * rho * n["dh_dt"])
+    beta = -n["drho_dt"] * q
+    inv_rho = rho * n["dh_dt"] * q
+    dh = (flux_w - p_pa * dm * inv_rho + p_pa * beta * h * dm) / (p_pa * beta + 1.0)
+    return dh, dm * inv_rho + beta * (dh - h * dm)
 
 
 class with_errstate:

@@ -54,7 +54,7 @@ impl HlInverse {
     /// cubic in lanes (the `f64` operations of one lane in the same order, so the same bits
     /// whatever the width). Only lanes with 0 < h < h_max use it; a NaN lane reads interval 0.
     pub(crate) fn guess<T: Real>(&self, h: T) -> T {
-        let u = (h / self.width).clamp_c(0.0, INTERVALS as f64);
+        let u = (h * (1.0 / self.width)).clamp_c(0.0, INTERVALS as f64);
         // u ≥ 0, so truncation is the floor.
         let mut cell = [0usize; WIDTH];
         for (l, c) in cell.iter_mut().enumerate().take(T::LANES) {

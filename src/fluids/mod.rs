@@ -326,7 +326,15 @@ impl FluidProps {
         0.5 * (self.t_max_k - self.t_min_k)
     }
 
-    /// Normalised temperature, unclamped.
+    /// Reciprocal of the half width, 1/K: the slopes in T multiply by it where a divide would
+    /// cost every lane a `vdivpd`.
+    #[inline]
+    fn inv_t_half(&self) -> f64 {
+        1.0 / self.t_half()
+    }
+
+    /// Normalised temperature, unclamped. A divide, not a multiply by [`Self::inv_t_half`]: the
+    /// range's ends must map to ±1 exactly (`tsat_k` clamps at `P_sat(t_min_k)` itself).
     #[inline]
     fn x_of<T: Real>(&self, t_k: T) -> T {
         (t_k - self.t_mid()) / self.t_half()
@@ -381,7 +389,7 @@ impl FluidProps {
         let limited = ln_p.abs().gt(T::splat(LN_P_LIMIT));
         (
             p,
-            T::select(limited, T::splat(0.0), p * slope / self.t_half()),
+            T::select(limited, T::splat(0.0), p * slope * self.inv_t_half()),
         )
     }
 
@@ -451,7 +459,7 @@ impl FluidProps {
     pub fn drho_l_dt<T: Real>(&self, t_k: T) -> T {
         let x = self.x_of(t_k);
         let outside = x.abs().gt(T::splat(1.0));
-        let inside = poly_deriv(&self.rho_l, x.clamp_c(-1.0, 1.0)) / self.t_half();
+        let inside = poly_deriv(&self.rho_l, x.clamp_c(-1.0, 1.0)) * self.inv_t_half();
         T::select(outside, T::splat(0.0), inside)
     }
 
@@ -503,8 +511,8 @@ impl FluidProps {
     fn invert_h_l<T: Real>(&self, h_j_per_kg: T, base: f64, h_max: f64, start: T) -> T {
         let h = h_j_per_kg;
         let (cp_lo, cp_hi) = (poly(&self.dh_l_sat, -1.0), poly(&self.dh_l_sat, 1.0));
-        let below = h / cp_lo + self.t_min_k;
-        let above = (h - h_max) / cp_hi + self.t_max_k;
+        let below = h * (1.0 / cp_lo) + self.t_min_k;
+        let above = (h - h_max) * (1.0 / cp_hi) + self.t_max_k;
         let (le0, ge_max, nan) = (
             h.le(T::splat(0.0)),
             h.ge(T::splat(h_max)),

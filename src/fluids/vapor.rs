@@ -115,8 +115,10 @@ impl FluidProps {
     pub fn vapor_state<T: Real>(&self, t_k: T, rho_kg_per_m3: T) -> VaporState<T> {
         let t = t_k.max_c(1.0);
         let tau = t.rdiv(self.t_crit_k);
+        // τ/T = τ²/T_c: a multiply where a divide was (as ρ/ρ_c below).
+        let tau_over_t = tau * tau * (1.0 / self.t_crit_k);
         let y = tau - 1.0;
-        let r = rho_kg_per_m3 / self.rho_crit_kg_per_m3;
+        let r = rho_kg_per_m3 * (1.0 / self.rho_crit_kg_per_m3);
         let zero = T::splat(0.0);
         // Σ r^k B_k, Σ k r^k B_k, Σ r^k B_k'/k, Σ r^(k−1) B_k', Σ r^k B_k''/k.
         let (mut z, mut kz, mut u, mut b1_sum, mut u2) = (zero, zero, zero, zero, zero);
@@ -146,11 +148,11 @@ impl FluidProps {
         let rtc = rs * self.t_crit_k;
         // ∂Z/∂T at constant ρ = −(τ/T) Σ r^k B_k'.
         // b1_sum is Σ r^(k−1) B_k' here (Horner without the last factor r).
-        let dz_dt = -(tau / t) * b1_sum * r;
+        let dz_dt = -tau_over_t * b1_sum * r;
         VaporState {
             z: z_full,
             u_res_j_per_kg: u * rtc,
-            du_res_dt: -(tau / t) * u2 * rtc,
+            du_res_dt: -tau_over_t * u2 * rtc,
             du_res_drho: b1_sum * (rtc / self.rho_crit_kg_per_m3),
             p_pa: rho_kg_per_m3 * rt * z_full,
             dp_dt: rho_kg_per_m3 * rs * (z_full + t * dz_dt),

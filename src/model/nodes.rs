@@ -177,9 +177,12 @@ pub(super) fn wall_coefficients<T: Real>(
 /// solves dH = F − P dV with dV = ṁ/ρ + β (dH − ṁ h), β = −ρ'/(ρ² dh_l/dT). Returns (dH/dt, dV/dt).
 pub(super) fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits<T>) -> (T, T) {
     let (rho, h) = (n.rho, n.h);
-    let beta = -n.drho_dt / (rho * rho * n.dh_dt);
-    let dh = (flux_w - p_pa * dm / rho + p_pa * beta * h * dm) / (p_pa * beta + 1.0);
-    (dh, dm / rho + beta * (dh - h * dm))
+    // β and 1/ρ from one reciprocal, 1/(ρ² dh_l/dT): two divides where there were four.
+    let q = (rho * rho * n.dh_dt).rdiv(1.0);
+    let beta = -n.drho_dt * q;
+    let inv_rho = rho * n.dh_dt * q;
+    let dh = (flux_w - p_pa * dm * inv_rho + p_pa * beta * h * dm) / (p_pa * beta + 1.0);
+    (dh, dm * inv_rho + beta * (dh - h * dm))
 }
 
 /// Time derivative of the state at one instant. `dt` is the step the integrator is taking: the

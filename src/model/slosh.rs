@@ -315,7 +315,8 @@ pub fn wall_damping<T: Real>(nu: T, r: T, a_ax: T, h_over_r: T) -> T {
     let hr = h_over_r.max_c(MIN_DEPTH_RATIO);
     let x = hr * 1.84;
     // sinh and cosh from one exp (x ≥ 0.037: within 1e-14 of libm).
-    let (e, inv) = (x.exp(), x.exp().rdiv(1.0));
+    let e = x.exp();
+    let inv = e.rdiv(1.0);
     let (sinh, cosh) = ((e - inv) * 0.5, (e + inv) * 0.5);
     let shape = sinh.rdiv(0.318) * ((hr.rsub(1.0) / cosh) + 1.0) + 1.0;
     // r^(-3/4) a^(-1/4) = (r³ a)^(-1/4), by two square roots.

@@ -23,12 +23,14 @@ pub struct ConvectionProps<T = f64> {
 }
 
 /// Rayleigh number g β |ΔT| L³ / (ν α) and Prandtl number ν/α, with ν = μ/ρ and α = k/(ρ c_p)
-/// substituted: Ra = g β |ΔT| L³ ρ² c_p / (μ k), Pr = μ c_p / k (two divides, not four).
+/// substituted: Ra = g β |ΔT| L³ ρ² c_p / (μ k), Pr = μ c_p / k = μ² c_p / (μ k): one divide
+/// for both, not four.
 fn rayleigh<T: Real>(p: &ConvectionProps<T>, accel: T, dt_k: T, length_m: T) -> (T, T) {
     let l3 = length_m * length_m * length_m;
     let drive = accel.max_c(0.0) * p.beta.abs() * dt_k.abs() * l3;
-    let ra = drive * (p.rho * p.rho * p.cp) / (p.mu * p.k);
-    (ra, p.mu * p.cp / p.k)
+    let inv_mu_k = (p.mu * p.k).rdiv(1.0);
+    let ra = drive * (p.rho * p.rho * p.cp) * inv_mu_k;
+    (ra, p.mu * p.mu * p.cp * inv_mu_k)
 }
 
 /// ln 0.492, the Prandtl-number constant of Churchill & Chu's correlation.
@@ -110,8 +112,10 @@ pub fn stiff_blend<T: Real>(z: T) -> (T, T) {
         v_lo *= v;
     }
     let s_hi = s_lo + v_lo * v;
-    let a = s_lo / s_hi * T::select(big, v, c(1.0));
-    let w = T::select(big, v, v_lo) / s_hi;
+    // One divide for both weights (S₆ ≥ 1, so its reciprocal is as accurate as the quotients).
+    let inv_s_hi = s_hi.rdiv(1.0);
+    let a = s_lo * inv_s_hi * T::select(big, v, c(1.0));
+    let w = T::select(big, v, v_lo) * inv_s_hi;
     (a, w)
 }
 
@@ -130,7 +134,8 @@ pub fn wall_exchange<T: Real>(
     dtemp_k: T,
     forcing_k_s: T,
 ) -> T {
-    let z = dt * ua * (c_wall.rdiv(1.0) + c_fluid.rdiv(1.0));
+    // 1/C_wall + 1/C_fluid as (C_wall + C_fluid)/(C_wall C_fluid): one divide, not two.
+    let z = dt * ua * ((c_wall + c_fluid) / (c_wall * c_fluid));
     let (a, w) = stiff_blend(z);
     ua * (a * dtemp_k + w * dt * forcing_k_s)
 }
