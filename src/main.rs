@@ -174,6 +174,16 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    let missing = cryoslosh::lanes::isa::missing_features();
+    if !missing.is_empty() {
+        eprintln!(
+            "error: this cryoslosh was built for CPU extensions this CPU lacks ({}); rebuild \
+             it for this machine (RUSTFLAGS=\"-C target-cpu=x86-64-v3\" or older, see \
+             .cargo/config.toml)",
+            missing.join(", ")
+        );
+        return ExitCode::from(1);
+    }
     quiet_process_defaults();
     let cli = Cli::parse();
     match run(cli) {

@@ -9,17 +9,24 @@
 //! side calls most often ([`math`]) are branch-free too, and `f64` uses the same code.
 
 pub mod count;
+pub mod isa;
 pub mod math;
 
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, BitAnd, BitOr, Div, Mul, MulAssign, Neg, Not, Sub, SubAssign};
 
-/// Instances per lane group of the CPU engine: four AVX2 vectors, so that the right-hand side's
-/// serial chains (Newton iterations of dependent divides) have independent work in flight
-/// (lumped MHTB right-hand side 496 → 412 ns per instance from 4 to 8 lanes, and 8 → 16 lanes
-/// another 10–12 % in right-hand sides per second; docs/ARCHITECTURE.md, "Build target and
-/// width"). Results do not depend on it (lane i is instance i's `f64` work).
-pub const WIDTH: usize = 16;
+/// Instances per lane group of the CPU engine: four AVX2 vectors (the default x86-64-v3 build),
+/// so that the right-hand side's serial chains (Newton iterations of dependent divides) have
+/// independent work in flight (lumped MHTB right-hand side 496 → 412 ns per instance from 4 to 8
+/// lanes, and 8 → 16 lanes another 10–12 % in right-hand sides per second); 32 lanes, four
+/// AVX-512 vectors, in a build for AVX-512 (x86-64-v4 with 512-bit vectors: 16 → 32 lanes
+/// 3.3 → 3.45 M right-hand sides/s, against 2.8 M for the AVX2 build; docs/ARCHITECTURE.md,
+/// "Build target and width"). Results do not depend on it (lane i is instance i's `f64` work).
+pub const WIDTH: usize = if cfg!(target_feature = "avx512f") {
+    32
+} else {
+    16
+};
 
 /// A per-lane boolean: `bool` for one instance, [`LaneMask`] for a lane group.
 pub trait Mask:
