@@ -434,14 +434,17 @@ fn main() {
         (lo.min(s[0] + s[1].max(s[2])), hi.max(s[0] + s[1].max(s[2])))
     });
     let div = shares.iter().map(|s| s[1]).fold(0.0f64, f64::max);
+    let kernels = shares.iter().map(|s| s[2]).fold(0.0f64, f64::max);
     let fma = shares.iter().map(|s| s[0]).fold(0.0f64, f64::max);
     println!(
         "bound: not the FMA units (every flop at the AVX2 peak is at most {:.0} % of the measured time); \
-         the divides (and square roots) are the largest single floor, up to {:.0} %; flops at peak plus \
-         the larger of the divide and kernel floors explain {:.0}-{:.0} %: the rest is latency (serial \
-         Newton iterations, dependent divide chains, lane-by-lane libm calls behind the opaque maps)",
+         the divides (and square roots) alone at most {:.0} %, the kernels alone at most {:.0} %; flops at \
+         peak plus the larger of the divide and kernel floors explain {:.0}-{:.0} %: the rest is \
+         instruction issue and latency (the loads, stores and blends of the lane values beside the \
+         arithmetic, serial Newton iterations, lane-by-lane libm calls behind the opaque maps)",
         100.0 * fma,
         100.0 * div,
+        100.0 * kernels,
         100.0 * lo,
         100.0 * hi
     );

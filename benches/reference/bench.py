@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Speed of the lumped right-hand side against same-work peers (issue 18): cryoslosh
-(`examples/rhs_states.rs --time`: `Lanes` groups of `lanes::WIDTH` (16), rayon on 1 and 2 threads), the numpy
+(`examples/rhs_states.rs --time`: `Lanes` groups of `lanes::WIDTH` (16; 32 in an AVX-512 build), rayon on 1 and 2 threads), the numpy
 port and the JAX port (`jax.jit` over arrays and `jax.jit(jax.vmap(...))`, CPU, float64), all
 on the same states, in right-hand-side evaluations per second.
 
