@@ -201,9 +201,9 @@ fn peaks() -> Peaks {
     }
 }
 
-/// Instances sampled from a campaign (the engine's `Plan::resolve`), grouped 4 by 4 as the
-/// engine groups them, with states `STEPS_IN` RK4 steps into the first phase.
-const INSTANCES: u64 = 32;
+/// Instances sampled from a campaign (the engine's `Plan::resolve`), grouped `WIDTH` by `WIDTH`
+/// as the engine groups them (two groups), with states `STEPS_IN` RK4 steps into the first phase.
+const INSTANCES: u64 = 2 * WIDTH as u64;
 const STEPS_IN: u32 = 20;
 
 struct LaneGroup {
@@ -372,7 +372,7 @@ fn main() {
         let level = format!("{:?}", c.params.fidelity).to_lowercase();
         let gs = groups(&c);
         if gs.is_empty() {
-            println!("{name:<16} {level:<11} no lane group of 4 compatible, finite instances");
+            println!("{name:<16} {level:<11} no lane group of WIDTH compatible, finite instances");
             continue;
         }
         count::take_divide_sites();

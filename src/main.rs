@@ -178,9 +178,9 @@ fn main() -> ExitCode {
     if !missing.is_empty() {
         eprintln!(
             "error: this cryoslosh was built for CPU extensions this CPU lacks ({}); rebuild \
-             it for this machine (RUSTFLAGS=\"-C target-cpu=x86-64-v3\" or older, see \
-             .cargo/config.toml)",
-            missing.join(", ")
+             it with {}",
+            missing.join(", "),
+            cryoslosh::lanes::isa::rebuild_hint(&missing)
         );
         return ExitCode::from(1);
     }

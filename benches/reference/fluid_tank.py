@@ -241,7 +241,7 @@ class Fluid:
         xp, f = self.xp, self.f
         tau = f["t_crit_k"] / xp.maximum(t, 1.0)
         y = tau - 1.0
-        r = rho / f["rho_crit_kg_per_m3"]
+        r = rho * (1.0 / f["rho_crit_kg_per_m3"])
         z = u = dz = 0.0 * t
         for k in range(4, 0, -1):
             c = f["vapor_virial"][(k - 1) * 6 : k * 6]

@@ -88,7 +88,8 @@ impl FluidProps {
     fn virial<T: Real>(&self, t_k: T, rho: T) -> (T, T, T) {
         let tau = t_k.max_c(1.0).rdiv(self.t_crit_k);
         let y = tau - 1.0;
-        let r = rho / self.rho_crit_kg_per_m3;
+        // ρ/ρ_c as in `vapor_state`, so that the two give the same bits.
+        let r = rho * (1.0 / self.rho_crit_kg_per_m3);
         let zero = T::splat(0.0);
         let (mut z, mut u, mut dz) = (zero, zero, zero);
         for k in (1..=K).rev() {

@@ -177,14 +177,17 @@ fn divide_site() {
 }
 
 /// This thread's divides and square roots by source line since the last call, which resets
-/// them: `(file:line, count)`, most first.
+/// them: `(file:line, count)`, most first (the divides of one line summed over its columns).
 pub fn take_divide_sites() -> Vec<(String, u64)> {
-    let mut v: Vec<(String, u64)> = DIVIDE_SITES.with(|d| {
-        d.borrow_mut()
-            .drain()
-            .map(|(l, n)| (format!("{}:{}", l.file(), l.line()), n))
-            .collect()
+    let mut by_line = std::collections::HashMap::<String, u64>::new();
+    DIVIDE_SITES.with(|d| {
+        for (l, n) in d.borrow_mut().drain() {
+            *by_line
+                .entry(format!("{}:{}", l.file(), l.line()))
+                .or_insert(0) += n;
+        }
     });
+    let mut v: Vec<(String, u64)> = by_line.into_iter().collect();
     v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     v
 }
