@@ -363,6 +363,7 @@ fn main() {
         "%512"
     );
     let mut bounds = Vec::new();
+    let show_divides = std::env::args().any(|a| a == "--divides");
     let mut divide_sites = Vec::new();
     // Per row: shares of the measured time of the flop, divide and kernel floors.
     let mut shares: Vec<[f64; 3]> = Vec::new();
@@ -401,7 +402,7 @@ fn main() {
             100.0 * flops_tr * rate / p.avx2,
             p.avx512.map_or(f64::NAN, |v| 100.0 * flops_tr * rate / v),
         );
-        if std::env::args().any(|a| a == "--divides") {
+        if show_divides {
             divide_sites.push(format!("{name} {level}: divides and square roots per right-hand side by source line (the kernels' own not included)"));
             for (at, k) in sites.iter().take(60) {
                 divide_sites.push(format!("  {:>6.2}  {at}", *k as f64 / n));

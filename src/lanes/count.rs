@@ -165,29 +165,27 @@ thread_local! {
 }
 
 thread_local! {
-    static DIVIDE_SITES: std::cell::RefCell<std::collections::HashMap<&'static std::panic::Location<'static>, u64>> =
+    /// Divides and square roots by `(file, line)` of the model code that made them.
+    static DIVIDE_SITES: std::cell::RefCell<std::collections::HashMap<(&'static str, u32), u64>> =
         std::cell::RefCell::new(std::collections::HashMap::new());
 }
 
-/// Record one divide or square root at the caller's source line.
+/// Record one divide or square root at the caller's source line (its columns summed).
 #[track_caller]
 fn divide_site() {
     let at = std::panic::Location::caller();
-    DIVIDE_SITES.with(|d| *d.borrow_mut().entry(at).or_insert(0) += 1);
+    DIVIDE_SITES.with(|d| *d.borrow_mut().entry((at.file(), at.line())).or_insert(0) += 1);
 }
 
 /// This thread's divides and square roots by source line since the last call, which resets
-/// them: `(file:line, count)`, most first (the divides of one line summed over its columns).
+/// them: `(file:line, count)`, most first.
 pub fn take_divide_sites() -> Vec<(String, u64)> {
-    let mut by_line = std::collections::HashMap::<String, u64>::new();
-    DIVIDE_SITES.with(|d| {
-        for (l, n) in d.borrow_mut().drain() {
-            *by_line
-                .entry(format!("{}:{}", l.file(), l.line()))
-                .or_insert(0) += n;
-        }
+    let mut v: Vec<(String, u64)> = DIVIDE_SITES.with(|d| {
+        d.borrow_mut()
+            .drain()
+            .map(|((file, line), n)| (format!("{file}:{line}"), n))
+            .collect()
     });
-    let mut v: Vec<(String, u64)> = by_line.into_iter().collect();
     v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     v
 }

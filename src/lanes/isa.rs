@@ -7,26 +7,25 @@
 //! The CPU is asked with `cpuid` and `xgetbv` directly: `is_x86_feature_detected!` answers
 //! `true` at compile time for every feature the binary was compiled with, so it cannot tell.
 
-/// The x86-64 extensions the levels x86-64-v2 … v4 add, by their `target_feature` names.
-pub const CHECKED: [&str; 15] = [
-    "sse4.2", "popcnt", "avx", "avx2", "fma", "bmi1", "bmi2", "lzcnt", "movbe", "xsave", "avx512f",
-    "avx512dq", "avx512cd", "avx512bw", "avx512vl",
-];
+/// [`CHECKED`] and [`compiled_features`] from one list (`cfg!` needs each name as a literal).
+macro_rules! checked_features {
+    ($($f:literal),* $(,)?) => {
+        /// The x86-64 extensions the levels x86-64-v2 … v4 add, by their `target_feature` names.
+        pub const CHECKED: &[&str] = &[$($f),*];
 
-/// Which of [`CHECKED`] this binary was compiled to use.
-pub fn compiled_features() -> Vec<&'static str> {
-    macro_rules! compiled {
-        ($($f:tt),*) => {{
+        /// Which of [`CHECKED`] this binary was compiled to use.
+        pub fn compiled_features() -> Vec<&'static str> {
             let mut v = Vec::new();
             $(if cfg!(target_feature = $f) { v.push($f); })*
             v
-        }};
-    }
-    compiled!(
-        "sse4.2", "popcnt", "avx", "avx2", "fma", "bmi1", "bmi2", "lzcnt", "movbe", "xsave",
-        "avx512f", "avx512dq", "avx512cd", "avx512bw", "avx512vl"
-    )
+        }
+    };
 }
+
+checked_features!(
+    "sse4.2", "popcnt", "avx", "avx2", "fma", "bmi1", "bmi2", "lzcnt", "movbe", "xsave", "avx512f",
+    "avx512dq", "avx512cd", "avx512bw", "avx512vl",
+);
 
 /// Which of [`CHECKED`] the running CPU and operating system support: `cpuid` leaves 1, 7 and
 /// 0x8000_0001, with the AVX and AVX-512 register state enabled by the OS (`xgetbv`, XCR0
