@@ -272,11 +272,13 @@ pub(crate) fn poly<T: Real>(c: &[f64; NCOEF], x: T) -> T {
 /// Horner evaluation of the derivative `Σ i c_i x^(i−1)`.
 #[inline]
 pub(crate) fn poly_deriv<T: Real>(c: &[f64; NCOEF], x: T) -> T {
-    c.iter()
-        .enumerate()
-        .skip(1)
-        .rev()
-        .fold(T::splat(0.0), |acc, (i, &a)| acc * x + i as f64 * a)
+    // A counted loop: `enumerate().skip(1).rev()` was left as a call per evaluation (1.4 % of a
+    // lumped run's instructions).
+    let mut acc = T::splat(0.0);
+    for i in (1..NCOEF).rev() {
+        acc = acc * x + i as f64 * c[i];
+    }
+    acc
 }
 
 /// `1 / (i + 1)`: the antiderivative's divisors as factors (a multiply, not a divide, per term).

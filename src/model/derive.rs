@@ -315,7 +315,7 @@ pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
 pub fn derive_into<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, out: &mut Derived<T>) {
     match g.shared().fidelity {
         Fidelity::Homogeneous => *out = super::homogeneous::derive(g, s, d),
-        Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(g, s, d, out),
+        Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(g, &g.tank(), s, d, out),
         Fidelity::Layered => {
             let prof = super::column::profile(g, s);
             *out = super::column::derive_column(g, s, d, &prof);
@@ -376,10 +376,19 @@ pub fn motion<T: Real>(
     );
 }
 
-fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, out: &mut Derived<T>) {
+/// [`derive_into`] at the two-node levels (`lumped`, `two_mode`), with each lane's `tank`
+/// gathered once by the caller (the right-hand side uses it again, `model::nodes::rhs`).
+pub fn derive_nodes<T: Real>(
+    g: Group<'_>,
+    tank: &TankLanes<T>,
+    s: &State<T>,
+    d: &Drive<T>,
+    out: &mut Derived<T>,
+) {
     let fluid = g.shared().fluid;
     let f = fluid.props();
-    *out = Derived::default();
+    // Every field of `out` is written below (and in `finish_nodes`, `liquid_range`): no zeroing
+    // first (a lane group's `Derived` is 5 kB, zeroed per right-hand side until 2026-12-06).
     let m_s = s[M_S].max_c(1.0e-12);
     let m_b = s[M_B].max_c(1.0e-12);
     out.t_layer_k = fluid.t_from_h_l_k(s[H_S] / m_s);
@@ -394,15 +403,17 @@ fn derive_nodes<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, out: &mut Der
     out.m_liquid_kg = s[M_S] + s[M_B];
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
     let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
-    finish_nodes(g, s, d, out, v_l, nu);
+    finish_nodes(g, tank, s, d, out, v_l, nu);
+    liquid_range(out);
 }
 
 /// What the node levels (`lumped`, `two_mode`, `layered`) derive alike once their liquid is
 /// known (`out`'s liquid fields, the liquid volume `v_l` m³, its kinematic viscosity `nu` m²/s
 /// at the outlet): level, flight and slosh, the ullage's volume, temperature and pressures, and
-/// the walls' temperatures.
+/// the walls' temperatures. `tank`: each lane's tank ([`Group::tank`]).
 pub fn finish_nodes<T: Real>(
     g: Group<'_>,
+    tank: &TankLanes<T>,
     s: &State<T>,
     d: &Drive<T>,
     out: &mut Derived<T>,
@@ -410,9 +421,8 @@ pub fn finish_nodes<T: Real>(
     nu: T,
 ) {
     let fluid = g.shared().fluid;
-    let tank = g.tank();
-    fill_level(g, &tank, out, v_l);
-    motion(g, &tank, s, d, out, nu);
+    fill_level(g, tank, out, v_l);
+    motion(g, tank, s, d, out, nu);
     let (v_tank, c_v): (T, T) = (
         g.get(|p| p.tank.volume_m3()),
         g.get(|p| p.coupling.volume_m3),

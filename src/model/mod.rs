@@ -143,15 +143,20 @@ fn rates_into<T: Real>(
         *fl = column::rhs(g, s, d, x, &prof, dt, ds);
         return;
     }
-    derive::derive_into(g, s, d, x);
     match g.shared().fidelity {
         Fidelity::Homogeneous => {
+            derive::derive_into(g, s, d, x);
             *fl = Fluxes {
                 boundary: homogeneous::rhs(g, s, d, x, dt, ds),
                 ..Default::default()
             }
         }
-        Fidelity::Lumped | Fidelity::TwoMode => nodes::rhs(g, s, d, x, dt, ds, fl),
+        Fidelity::Lumped | Fidelity::TwoMode => {
+            // Each lane's tank, gathered once for the derivation and the rates.
+            let tank = g.tank();
+            derive::derive_nodes(g, &tank, s, d, x);
+            nodes::rhs((g, &tank), s, d, x, dt, ds, fl);
+        }
         Fidelity::Layered => unreachable!("evaluated above"),
     }
 }

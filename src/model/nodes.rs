@@ -11,6 +11,7 @@ use super::state::*;
 use super::thermal::{self, ConvectionProps};
 use super::Group;
 use crate::fluids::HELIUM;
+use crate::geometry::TankLanes;
 use crate::lanes::{c, math, Real};
 use std::f64::consts::PI;
 
@@ -187,9 +188,9 @@ pub(super) fn liquid_node_rates<T: Real>(p_pa: T, flux_w: T, dm: T, n: &NodeFits
 
 /// Time derivative of the state at one instant. `dt` is the step the integrator is taking: the
 /// stiff evaporation and wall exchange are blended towards implicit over it where the step does
-/// not resolve them (see [`implicit_evaporation`]).
+/// not resolve them (see [`implicit_evaporation`]). `tank`: each lane's tank ([`Group::tank`]).
 pub fn rhs<T: Real>(
-    g: Group<'_>,
+    (g, tank): (Group<'_>, &TankLanes<T>),
     s: &State<T>,
     d: &Drive<T>,
     x: &Derived<T>,
@@ -213,7 +214,6 @@ pub fn rhs<T: Real>(
     let cv_g = HELIUM.cv_j_per_kg_k;
     let heat_cap = s[M_V] * (vapor.du_res_dt + cv0) + s[M_G] * cv_g;
     let a_i = x.interface_area_m2;
-    let tank = g.tank();
     let r_surf = tank.surface_radius_m(x.level_m).max_c(1.0e-3);
     let a_tot = tank.wall_area_m2();
     let dry_share = x.wetted_share.rsub(1.0);
@@ -401,7 +401,7 @@ pub fn rhs<T: Real>(
     ds[H_S] = dh_s;
     ds[U_U] = du_u;
 
-    boundary::wall_rates(g, &tank, x, &env, q_wl, q_wu, dv_s + dv_b, ds);
+    boundary::wall_rates(g, tank, x, &env, q_wl, q_wu, dv_s + dv_b, ds);
     boundary::boundary_ledger(&b, h_press, h_u, out_s * hf_s + out_b * hf_b, ds);
     ds[E_WORK] = -pu * dv_slosh;
     ds[E_PUMP] = q_pump;

@@ -826,14 +826,19 @@ fn integrate_fixed<'a, T: Real>(
         let tp = T::from_fn(|i| lanes[i].k as f64) * dt;
         let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
         let reuse = lanes.iter().all(|l| l.done || l.reuse);
-        let mut next = s;
         let k1 = (have_k1 && reuse).then_some(&ev.rates);
-        model::rk4_step_in(g, drive, &mut next, tp, dt, k1, &mut work);
-        let d: Drive<T> = Drive::gather(|i| lanes[i].drive((lanes[i].k + 1) as f64 * lanes[i].dt));
         let active = T::Mask::from_fn(|i| !lanes[i].done);
-        for (sj, nj) in s[..n].iter_mut().zip(&next[..n]) {
-            *sj = T::select(active, *nj, *sj);
+        if active.all() {
+            // The usual case: every lane steps, in place (no copy of the group's state).
+            model::rk4_step_in(g, drive, &mut s, tp, dt, k1, &mut work);
+        } else {
+            let mut next = s;
+            model::rk4_step_in(g, drive, &mut next, tp, dt, k1, &mut work);
+            for (sj, nj) in s[..n].iter_mut().zip(&next[..n]) {
+                *sj = T::select(active, *nj, *sj);
+            }
         }
+        let d: Drive<T> = Drive::gather(|i| lanes[i].drive((lanes[i].k + 1) as f64 * lanes[i].dt));
         model::evaluate_into(g, &s, &d, dt, &mut ev);
         let mut diverged = T::Mask::splat(false);
         for (i, l) in lanes.iter_mut().enumerate() {

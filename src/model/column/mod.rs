@@ -182,7 +182,7 @@ pub fn derive_column<T: Real>(
     out.t_liquid_max_k = hi;
     let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
     let v_l = out.v_layer_m3 + v_col;
-    derive::finish_nodes(g, s, d, &mut out, v_l, nu);
+    derive::finish_nodes(g, &g.tank(), s, d, &mut out, v_l, nu);
     out
 }
 
