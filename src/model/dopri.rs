@@ -10,7 +10,7 @@
 
 use super::derive::Drive;
 use super::state::{State, M_V, NS};
-use super::{evaluate, Evaluation, Group};
+use super::{Evaluation, Group};
 use crate::lanes::Real;
 
 /// Nodes c_i of the tableau.
@@ -105,13 +105,37 @@ pub fn trial<T: Real>(
     h: T,
     tol: &Tolerance<T>,
 ) -> Trial<T> {
-    let mut k = [[T::default(); NS]; 7];
-    k[0] = *k1;
+    let mut out = Trial::default();
+    trial_in(g, drive, s, k1, (evap0, t, h), tol, &mut out);
+    out
+}
+
+/// [`trial`] into `out`, in place (what it held before does not matter): a caller that takes
+/// many steps keeps one, instead of zeroing and moving seven stage states and two evaluations
+/// (75 kB for a lane group of 16) per attempt. The stages are built in `out.end` and evaluated
+/// into `out.end_eval`, over the level's used slots; the last stage's are the step's end.
+pub fn trial_in<T: Real>(
+    g: Group<'_>,
+    drive: impl Fn(T) -> Drive<T>,
+    s: &State<T>,
+    k1: &State<T>,
+    (evap0, t, h): (T, T, T),
+    tol: &Tolerance<T>,
+    out: &mut Trial<T>,
+) {
     let n = super::used_slots(g);
-    let mut end_eval = None;
+    let Trial {
+        end: y,
+        end_eval,
+        k,
+        error,
+    } = out;
+    // The slots beyond the level's are 0 in every state and rate; the stage carries `s`'s.
+    y[n..].copy_from_slice(&s[n..]);
+    k[0][..n].copy_from_slice(&k1[..n]);
     for stage in 1..7 {
         let row = &A[stage - 1];
-        let mut y = *s;
+        y[..n].copy_from_slice(&s[..n]);
         for (j, kj) in k.iter().enumerate().take(stage) {
             let a = row[j];
             if a != 0.0 {
@@ -120,14 +144,11 @@ pub fn trial<T: Real>(
                 }
             }
         }
-        let ev = evaluate(g, &y, &drive(t + h * C[stage]), h);
-        k[stage] = ev.rates;
-        if stage == 6 {
-            end_eval = Some((y, ev));
-        }
+        super::evaluate_into(g, y, &drive(t + h * C[stage]), h, end_eval);
+        k[stage][..n].copy_from_slice(&end_eval.rates[..n]);
     }
-    let (end, end_eval) = end_eval.expect("seven stages");
-    let mut error = T::splat(0.0);
+    let (end, end_eval) = (&*y, &*end_eval);
+    *error = T::splat(0.0);
     for i in 0..n {
         let mut e = T::splat(0.0);
         for (j, kj) in k.iter().enumerate() {
@@ -138,7 +159,7 @@ pub fn trial<T: Real>(
         let scale = tol.atol[i] + tol.rtol * s[i].abs().max(end[i].abs());
         // A non-finite stage gives a NaN error, which must reject: NaN ≤ 1 is false.
         let ratio = (e * h).abs() / scale;
-        error = T::select(ratio.le(error), error, ratio);
+        *error = T::select(ratio.le(*error), *error, ratio);
     }
     // Where the step does not resolve the evaporation's relaxation, its rate takes implicit
     // Euler's limit (`thermal::stiff_blend`), which follows a change of the quasi-steady rate
@@ -147,12 +168,18 @@ pub fn trial<T: Real>(
     // shipped campaigns move by up to 3.3e-4 between default and 100× tighter tolerances).
     let lag = (h * (end_eval.fluxes.evap_kg_s - evap0)).abs() * 0.5
         / (tol.atol[M_V] + tol.rtol * s[M_V].abs().max(end[M_V].abs()));
-    error = T::select(lag.le(error), error, lag);
-    Trial {
-        end,
-        end_eval,
-        k,
-        error,
+    *error = T::select(lag.le(*error), *error, lag);
+}
+
+/// All zeros: what [`trial_in`] writes over.
+impl<T: Real> Default for Trial<T> {
+    fn default() -> Self {
+        Trial {
+            end: [T::default(); NS],
+            end_eval: Evaluation::default(),
+            k: [[T::default(); NS]; 7],
+            error: T::default(),
+        }
     }
 }
 
@@ -162,26 +189,55 @@ pub struct Dense {
     r: [State; 5],
 }
 
+/// All zeros: what [`Dense::set_lane`] writes over.
+impl Default for Dense {
+    fn default() -> Self {
+        Dense { r: [[0.0; NS]; 5] }
+    }
+}
+
 impl Dense {
     /// The continuous extension of the step of length `h` from `y0` to `y1` with stages `k`.
     pub fn new(y0: &State, y1: &State, k: &[State; 7], h: f64) -> Dense {
-        let mut r = [[0.0; NS]; 5];
+        let mut d = Dense::default();
+        d.set_lane((y0, y1, k), 0, h, NS);
+        d
+    }
+
+    /// Overwrite with the continuous extension of lane `lane` of a lane group's step of length
+    /// `h` from `y0` to `y1` with stages `k`, read in place (a lane group's stages are 60 kB
+    /// for 16 lanes: not copied per lane). Only the first `n` slots move (a level's used slots:
+    /// beyond them `y0` = `y1` and every stage is 0, and the extension is `y0` there, as
+    /// computed over every slot). Same bits as [`Dense::new`] on the lane's own states.
+    pub fn set_lane<T: Real>(
+        &mut self,
+        (y0, y1, k): (&State<T>, &State<T>, &[State<T>; 7]),
+        lane: usize,
+        h: f64,
+        n: usize,
+    ) {
+        let r = &mut self.r;
         for i in 0..NS {
-            let diff = y1[i] - y0[i];
-            let bspl = h * k[0][i] - diff;
+            let (a, b) = (y0[i].lane(lane), y1[i].lane(lane));
+            if i >= n {
+                r[0][i] = a;
+                (r[1][i], r[2][i], r[3][i], r[4][i]) = (0.0, 0.0, 0.0, 0.0);
+                continue;
+            }
+            let diff = b - a;
+            let bspl = h * k[0][i].lane(lane) - diff;
             let mut d = 0.0;
             for (j, kj) in k.iter().enumerate() {
                 if D[j] != 0.0 {
-                    d += D[j] * kj[i];
+                    d += D[j] * kj[i].lane(lane);
                 }
             }
-            r[0][i] = y0[i];
+            r[0][i] = a;
             r[1][i] = diff;
             r[2][i] = bspl;
-            r[3][i] = diff - h * k[6][i] - bspl;
+            r[3][i] = diff - h * k[6][i].lane(lane) - bspl;
             r[4][i] = h * d;
         }
-        Dense { r }
     }
 
     /// Slot `i` of the state at fraction `theta` of the step, as [`Dense::at`].

@@ -146,7 +146,7 @@ impl LaneRun<'_> {
         (model::evaluate(Group::one(self.params), s, &d, h), d)
     }
 
-    /// An accepted step of length `h` from `y0` to `y1` with stages `k`, its end evaluation
+    /// An accepted step of length `h` from `y0` to `y1` with dense output `dense`, its end evaluation
     /// `ev1` and mid-step evaluation `mid`. Locates a valve switch inside the step and cuts
     /// the step there, checks outcomes and divergence, observes extremes, records history,
     /// moves to the next phase.
@@ -156,14 +156,13 @@ impl LaneRun<'_> {
         y0: &State,
         y1: &State,
         ev1: &Evaluation,
-        k: &[State; 7],
+        dense: &Dense,
         h: f64,
         error: f64,
         mid: &Evaluation,
         mut history: Option<&mut History>,
     ) {
         let p = self.params;
-        let dense = Dense::new(y0, y1, k, h);
         let t0 = self.t_phase;
         let ev0 = self.last;
         // Switches: the relief valve's and the TVS's switching functions, each located at the
@@ -182,11 +181,11 @@ impl LaneRun<'_> {
         let mut cut: Option<(f64, Switched)> = None;
         if p.relief.is_some() {
             cut = self
-                .find_switch(&dense, (t0, h), [&ev0, mid, ev1], relief_g)
+                .find_switch(dense, (t0, h), [&ev0, mid, ev1], relief_g)
                 .map(|th| (th, Switched::Relief));
         }
         if p.tvs.is_some() && self.phase().tvs {
-            if let Some(th) = self.find_switch(&dense, (t0, h), [&ev0, mid, ev1], tvs_g) {
+            if let Some(th) = self.find_switch(dense, (t0, h), [&ev0, mid, ev1], tvs_g) {
                 if cut.is_none_or(|(first, _)| th < first) {
                     cut = Some((th, Switched::Tvs));
                 }
@@ -263,7 +262,7 @@ impl LaneRun<'_> {
             (th, ev, d)
         };
         self.observe_probe(
-            &dense,
+            dense,
             y0,
             (t0, h),
             &ev0,
@@ -289,7 +288,7 @@ impl LaneRun<'_> {
                 };
                 let lo = (0.0, sign * before.unwrap_or(0.0));
                 let hi = (theta_end, sign * margin.unwrap_or(0.0));
-                start + t0 + lane.locate(&dense, (t0, h), lo, hi, g) * h
+                start + t0 + lane.locate(dense, (t0, h), lo, hi, g) * h
             },
         );
 
@@ -536,6 +535,11 @@ pub(super) fn integrate<'a, T: Real>(
         rtol: T::from_fn(|i| lanes[i].campaign.stepping.rtol),
     };
     let mut s: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].s0[j]));
+    // The attempt's stages and end, and the mid-step probe, evaluated in place step after step.
+    let mut trial = dopri::Trial::default();
+    let mut mid = Evaluation::default();
+    let mut dense = vec![Dense::default(); T::LANES];
+    let n = model::used_slots(g);
     while lanes.iter().any(|l| !l.done) {
         // A finished lane steps by 0: its stages stay on its last good state, so the group
         // never evaluates (and iterates) where that lane alone would not go.
@@ -560,30 +564,27 @@ pub(super) fn integrate<'a, T: Real>(
         let k1: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].k1[j]));
         let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
         let evap0 = T::from_fn(|i| lanes[i].last.fluxes.evap_kg_s);
-        let trial = dopri::trial(g, drive, &s, &k1, evap0, t, h, &tol);
+        dopri::trial_in(g, drive, &s, &k1, (evap0, t, h), &tol, &mut trial);
         let accepted = T::Mask::from_fn(|i| !lanes[i].done && trial.error.lane(i) <= 1.0);
-        // The mid-step probe of every accepted lane, evaluated together.
-        let mid = if accepted.any() {
-            let dense: Vec<Option<Dense>> = (0..T::LANES)
-                .map(|i| {
-                    accepted.lane(i).then(|| {
-                        let k = trial.k.map(|kj| state::lane(&kj, i));
-                        Dense::new(
-                            &state::lane(&s, i),
-                            &state::lane(&trial.end, i),
-                            &k,
-                            h.lane(i),
-                        )
-                    })
-                })
-                .collect();
+        // Each accepted lane's dense output (built once, for the probe and for `accept`), and
+        // the mid-step probe of every accepted lane, evaluated together.
+        for (i, di) in dense.iter_mut().enumerate() {
+            if accepted.lane(i) {
+                di.set_lane((&s, &trial.end, &trial.k), i, h.lane(i), n);
+            }
+        }
+        if accepted.any() {
             let sm: State<T> = std::array::from_fn(|j| {
-                T::from_fn(|i| dense[i].as_ref().map_or(s[j].lane(i), |d| d.at(0.5)[j]))
+                T::from_fn(|i| {
+                    if accepted.lane(i) {
+                        dense[i].slot_at(j, 0.5)
+                    } else {
+                        s[j].lane(i)
+                    }
+                })
             });
-            Some(model::evaluate(g, &sm, &drive(t + h * 0.5), h))
-        } else {
-            None
-        };
+            model::evaluate_into(g, &sm, &drive(t + h * 0.5), h, &mut mid);
+        }
         for (i, l) in lanes.iter_mut().enumerate() {
             if l.done {
                 continue;
@@ -596,15 +597,14 @@ pub(super) fn integrate<'a, T: Real>(
             }
             l.evaluations += 1;
             let hist = if i == 0 { history.as_deref_mut() } else { None };
-            let k = trial.k.map(|kj| state::lane(&kj, i));
             l.accept(
                 &state::lane(&s, i),
                 &state::lane(&trial.end, i),
                 &trial.end_eval.lane(i),
-                &k,
+                &dense[i],
                 hi,
                 err,
-                &mid.as_ref().expect("accepted lanes have a probe").lane(i),
+                &mid.lane(i),
                 hist,
             );
         }
