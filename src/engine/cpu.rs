@@ -35,7 +35,8 @@ impl Engine for CpuEngine {
     }
 
     fn device(&self) -> String {
-        format!("cpu: {} threads", self.threads)
+        let s = if self.threads == 1 { "" } else { "s" };
+        format!("cpu: {} thread{s}", self.threads)
     }
 
     fn run_block(&self, plan: &Plan, range: Range<u64>) -> Result<Vec<InstanceRecord>, String> {
