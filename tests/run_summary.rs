@@ -1,4 +1,6 @@
-//! The first line of `run`'s summary (found by a new-user test of the CLI): it said "1 threads".
+//! The first line of `run`'s summary (found by a new-user test of the CLI): it said "1 threads",
+//! and after `--resume` its rate divided every instance-step, those loaded from the checkpoint
+//! too, by the wall time of the resumed part alone.
 
 mod common;
 use common::campaign_path;
@@ -48,5 +50,47 @@ fn one_thread_is_singular() {
             serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
         assert_eq!(json["device"], device);
     }
+    std::fs::remove_dir_all(root).ok();
+}
+
+/// Regression: a resumed run's rate counted the instance-steps loaded from the checkpoint as if
+/// integrated in the resumed part's wall time (6.9e5 against 5.7e5 instance-steps/s).
+#[test]
+fn resumed_rate_counts_only_the_steps_integrated_now() {
+    let root = scratch("resume");
+    let out = root.join("r");
+    let args = ["--instances", "16", "--chunk-size", "4", "--threads", "1"];
+    // Killed after its second block: 8 instances committed, 8 left.
+    let o = run(&out, &args, Some("after-part-1"));
+    assert!(!o.status.success(), "the failpoint must stop the process");
+    let o = run(&out, &[&args[..], &["--resume"]].concat(), None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+    let total = json["instance_steps"].as_u64().unwrap();
+    let resumed = json["resumed_instance_steps"].as_u64().unwrap();
+    assert!(resumed > 0 && resumed < total, "{json}");
+    let now = total - resumed;
+    let wall = json["wall_s"].as_f64().unwrap();
+    let rate = json["instance_steps_per_s"].as_f64().unwrap();
+    assert!(
+        (rate * wall - now as f64).abs() <= 1e-9 * now as f64,
+        "the rate must be the {now} steps integrated now over {wall} s: {json}"
+    );
+    let line = first_line(&o);
+    assert!(
+        line.contains(&format!(
+            "{total} instance-steps ({resumed} from the checkpoint, {now} integrated now) in"
+        )),
+        "{line}"
+    );
+    // An uninterrupted run says nothing of a checkpoint, and its rate is all its steps.
+    let whole = root.join("whole");
+    let o = run(&whole, &args, None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(first_line(&o).contains(&format!("{total} instance-steps in")));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(whole.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["resumed_instance_steps"], 0);
     std::fs::remove_dir_all(root).ok();
 }

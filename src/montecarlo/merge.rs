@@ -221,6 +221,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         diverged,
         rejected,
         instance_steps: table::read_u64(&inst_path, "steps")?.iter().sum(),
+        resumed_steps: shards
+            .iter()
+            .map(|s| s.run["resumed_instance_steps"].as_u64().unwrap_or(0))
+            .sum(),
         wall_s: shards
             .iter()
             .map(|s| s.run["wall_s"].as_f64().unwrap_or(0.0))

@@ -101,6 +101,10 @@ pub struct RunReport {
     pub diverged: u64,
     pub rejected: u64,
     pub instance_steps: u64,
+    /// Of `instance_steps`, those a resumed run (`--resume`) loaded from the interrupted run's
+    /// committed blocks instead of integrating them (0 otherwise): `wall_s` does not cover them.
+    pub resumed_steps: u64,
+    /// Wall time of this invocation, s (a resumed run: of the part it integrated).
     pub wall_s: f64,
     pub backend: String,
     pub device: String,
@@ -126,6 +130,12 @@ pub struct RunReport {
 }
 
 impl RunReport {
+    /// Instance-steps per second of the work this invocation did: the steps it integrated over
+    /// its wall time (a resumed run's steps loaded from its checkpoint took none of it).
+    pub fn steps_per_s(&self) -> f64 {
+        self.instance_steps.saturating_sub(self.resumed_steps) as f64 / self.wall_s.max(1e-9)
+    }
+
     /// Why the run's statistics cannot be signed (too many rejected or diverged instances), or
     /// `None`. The outputs are written either way; the command exits with code 3.
     pub fn untrusted(&self) -> Option<String> {
@@ -426,6 +436,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         }
         counts = done;
     }
+    let resumed_steps = counts.steps;
     let mut stop_at = match &stopper {
         Some(s) if s.last.as_ref().is_some_and(|p| p.met) => at,
         _ => range.end,
@@ -535,6 +546,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         diverged,
         rejected,
         instance_steps: steps,
+        resumed_steps,
         wall_s,
         backend: engine.name().into(),
         device: engine.device(),
@@ -608,8 +620,9 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "diverged": r.diverged,
         "rejected": r.rejected,
         "instance_steps": r.instance_steps,
+        "resumed_instance_steps": r.resumed_steps,
         "wall_s": r.wall_s,
-        "instance_steps_per_s": r.instance_steps as f64 / r.wall_s.max(1e-9),
+        "instance_steps_per_s": r.steps_per_s(),
         "backend": r.backend,
         "device": r.device,
         "threads": r.threads,

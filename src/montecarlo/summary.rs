@@ -83,15 +83,25 @@ fn probability(r: &Row) -> String {
 /// The terminal summary: margins, tail probabilities, top drivers.
 pub fn summary_text(r: &RunReport) -> String {
     let s = &r.statistics;
+    // The rate is of the work done now: a resumed run's steps from its checkpoint took no time.
+    let steps = if r.resumed_steps == 0 {
+        format!("{} instance-steps in", r.instance_steps)
+    } else {
+        format!(
+            "{} instance-steps ({} from the checkpoint, {} integrated now) in",
+            r.instance_steps,
+            r.resumed_steps,
+            r.instance_steps.saturating_sub(r.resumed_steps)
+        )
+    };
     let mut out = format!(
-        "{} instance{} ({} diverged, {} rejected), {} instance-steps in {:.2} s = {:.3e} instance-steps/s on {}\n",
+        "{} instance{} ({} diverged, {} rejected), {steps} {:.2} s = {:.3e} instance-steps/s on {}\n",
         r.instances,
         if r.instances == 1 { "" } else { "s" },
         r.diverged,
         r.rejected,
-        r.instance_steps,
         r.wall_s,
-        r.instance_steps as f64 / r.wall_s.max(1e-9),
+        r.steps_per_s(),
         r.device
     );
     if !r.dispersed {
