@@ -155,6 +155,50 @@ fn a_second_writer_of_one_directory_is_refused() {
     std::fs::remove_dir_all(root).ok();
 }
 
+/// Regression: an empty `.DIR.lock` stayed beside the results directory after every command.
+/// It goes when the command ends (published, refused or failed); a killed one leaves it, and a
+/// lock still held on a removed lock file (its holder's last act) does not block the next writer.
+#[cfg(unix)]
+#[test]
+fn the_lock_file_goes_when_the_command_ends() {
+    let camp = campaign_path("mhtb_selfpress");
+    let camp = camp.to_str().unwrap();
+    let root = scratch("lockfile");
+    let out = root.join("results");
+    let outs = out.to_str().unwrap();
+    let lock = root.join(".results.lock");
+    let mut args = run_args(camp, outs, "1");
+    args.truncate(args.len() - 3); // no histories, no --force
+    let o = cryoslosh(&args, None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!lock.exists(), "after a published run");
+    let o = cryoslosh(&args, None); // not empty without --force
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!lock.exists(), "after a refused run");
+    let forced = run_args(camp, outs, "2");
+    let o = cryoslosh(&forced, Some("enospc:after-instances"));
+    assert_eq!(o.status.code(), Some(1));
+    assert!(!lock.exists(), "after a failed run");
+    let o = cryoslosh(&forced, Some("after-instances"));
+    assert!(!o.status.success());
+    assert!(lock.exists(), "a killed run cannot remove it");
+    let o = cryoslosh(&["report", outs, "--no-worst-cases"], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!out.join(".report.lock").exists(), "after a report");
+    // Another process that locked the file and removed it, still holding the lock.
+    let held = std::fs::File::options().write(true).open(&lock).unwrap();
+    held.lock().unwrap();
+    std::fs::remove_file(&lock).unwrap();
+    let o = cryoslosh(&forced, None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        !lock.exists(),
+        "after the run that cleaned up the killed one"
+    );
+    drop(held);
+    std::fs::remove_dir_all(root).ok();
+}
+
 #[test]
 fn merge_refuses_tampered_shards_and_its_own_input_and_a_killed_merge_publishes_nothing() {
     let camp = campaign_path("mhtb_selfpress");

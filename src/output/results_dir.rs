@@ -6,7 +6,9 @@
 //! kept as `.<name>.old-<pid>` in between and restored by the next command if the process died
 //! there). An advisory lock on `.<name>.lock` (std's `File::try_lock`, flock on Unix) refuses a
 //! second writer of the same directory, and under it the stale staging directories of dead
-//! processes are removed — except by `run --resume`, which continues from the one it finds.
+//! processes are removed — except by `run --resume`, which continues from the one it finds. On
+//! Unix the lock file is removed when the command ends, success or handled failure ([`DirLock`]
+//! says why that keeps one writer per directory); a killed process leaves it, empty and unlocked.
 
 use std::fs::{self, File};
 use std::path::{Path, PathBuf};
@@ -86,7 +88,9 @@ pub struct Staging {
     target: PathBuf,
     work: PathBuf,
     staging: PathBuf,
-    _lock: File,
+    // Dropped after `Drop for Staging` has removed the working state: the lock is held until
+    // the command has finished with the directory.
+    _lock: DirLock,
     published: bool,
     keep: bool,
 }
@@ -145,20 +149,7 @@ impl Staging {
             return Err(ResultsDirError::ParentIsAFile(file.to_path_buf()));
         }
         fs::create_dir_all(&parent).map_err(io(&parent))?;
-        let lock_path = parent.join(format!(".{name}.lock"));
-        let lock = File::options()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(&lock_path)
-            .map_err(io(&lock_path))?;
-        match lock.try_lock() {
-            Ok(()) => {}
-            Err(std::fs::TryLockError::WouldBlock) => {
-                return Err(ResultsDirError::Busy(target.to_path_buf()))
-            }
-            Err(std::fs::TryLockError::Error(e)) => return Err(io(&lock_path)(e)),
-        }
+        let lock = DirLock::take(&parent.join(format!(".{name}.lock")), target)?;
         recover(&parent, &name, target)?;
         match fs::symlink_metadata(target) {
             Ok(m) if !m.is_dir() => {
@@ -266,6 +257,86 @@ impl Drop for Staging {
         if !self.published && !self.keep {
             let _ = fs::remove_dir_all(&self.work);
         }
+    }
+}
+
+/// The lock of a results directory: an exclusive advisory lock (flock on Unix) on the file
+/// `.<name>.lock` beside it, held while the value lives and, on Unix, removed when dropped.
+///
+/// Removing a lock file is safe only with two rules, because a second writer may have opened
+/// the file just before it was removed and be granted the lock on that orphaned file once the
+/// first releases it, while a third creates a new file under the name and locks that:
+/// the file is removed only by its holder, while it still holds the lock (here, in `drop`,
+/// before the descriptor closes), and a lock counts only if the name still names the file that
+/// was locked (same device and inode), otherwise the name is opened again. Then whoever holds
+/// the lock of the file the name points at is the one writer: the name changes only when that
+/// holder removes it, as its last act on the directory. Elsewhere the file stays (std has no
+/// stable way to compare file identities there).
+#[derive(Debug)]
+struct DirLock {
+    path: PathBuf,
+    file: File,
+}
+
+impl DirLock {
+    /// Lock `path` (created if missing) for a writer of `target`, or say that another process
+    /// holds it.
+    fn take(path: &Path, target: &Path) -> Result<DirLock, ResultsDirError> {
+        // Each retry means another writer removed the file between our open and our lock; a
+        // name that keeps changing under us is as good as busy.
+        for _ in 0..64 {
+            let file = File::options()
+                .create(true)
+                .truncate(false)
+                .write(true)
+                .open(path)
+                .map_err(io(path))?;
+            match file.try_lock() {
+                Ok(()) => {}
+                Err(std::fs::TryLockError::WouldBlock) => {
+                    return Err(ResultsDirError::Busy(target.to_path_buf()))
+                }
+                Err(std::fs::TryLockError::Error(e)) => return Err(io(path)(e)),
+            }
+            if names(path, &file) {
+                return Ok(DirLock {
+                    path: path.to_path_buf(),
+                    file,
+                });
+            }
+        }
+        Err(ResultsDirError::Busy(target.to_path_buf()))
+    }
+}
+
+/// Whether `path` still names the open `file` (Unix: same device and inode). Elsewhere the lock
+/// file is never removed, so the name always does.
+fn names(path: &Path, file: &File) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (fs::metadata(path), file.metadata()) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (path, file);
+        true
+    }
+}
+
+impl Drop for DirLock {
+    fn drop(&mut self) {
+        // Still holding the lock (the descriptor closes after this), and the name is still ours:
+        // only the holder removes it.
+        #[cfg(unix)]
+        if names(&self.path, &self.file) {
+            let _ = fs::remove_file(&self.path);
+        }
+        #[cfg(not(unix))]
+        let _ = (&self.path, &self.file);
     }
 }
 
@@ -420,4 +491,43 @@ pub fn verify(dir: &Path) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The race that makes removing a lock file unsafe without the identity check: a writer
+    /// that opened the file before its holder removed it gets the lock on the orphan once the
+    /// holder is done, and must not count it, since a new file may already be locked by another.
+    #[cfg(unix)]
+    #[test]
+    fn a_lock_on_a_removed_lock_file_does_not_count() {
+        let dir = std::env::temp_dir().join(format!("cryoslosh-dirlock-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        let (path, target) = (dir.join(".r.lock"), dir.join("r"));
+        let first = DirLock::take(&path, &target).unwrap();
+        assert!(matches!(
+            DirLock::take(&path, &target),
+            Err(ResultsDirError::Busy(_))
+        ));
+        let late = File::options().write(true).open(&path).unwrap();
+        drop(first);
+        assert!(!path.exists(), "the holder removes its lock file");
+        late.try_lock().unwrap(); // the orphan's lock is free now...
+        assert!(
+            !names(&path, &late),
+            "...but it is not the lock of the directory"
+        );
+        let second = DirLock::take(&path, &target).unwrap();
+        assert!(names(&path, &second.file));
+        assert!(matches!(
+            DirLock::take(&path, &target),
+            Err(ResultsDirError::Busy(_))
+        ));
+        drop(second);
+        drop(late);
+        fs::remove_dir_all(&dir).unwrap();
+    }
 }
