@@ -220,6 +220,21 @@ fn broken_toml_and_missing_file_exit_2() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Regression: a missing campaign file printed the OS error twice ("cannot read campaign
+/// nope.toml: No such file or directory (os error 2): No such file or directory (os error 2)").
+#[test]
+fn missing_campaign_file_names_the_os_error_once() {
+    let missing =
+        std::env::temp_dir().join(format!("cryoslosh-cli-{}-nope.toml", std::process::id()));
+    let o = cryoslosh(&["check", missing.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    let head = format!("error: cannot read campaign {}: ", missing.display());
+    assert!(err.starts_with(&head), "{err}");
+    assert_eq!(err.matches("(os error 2)").count(), 1, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
 #[test]
 fn check_prints_the_resolved_nominal() {
     let o = cryoslosh(&[

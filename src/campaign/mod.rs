@@ -23,7 +23,9 @@ use std::path::{Path, PathBuf};
 /// Why a campaign could not be loaded. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum CampaignError {
-    #[error("cannot read campaign {file}: {source}")]
+    /// The OS error is the source, printed after the message by the error chain (`{:#}`), so
+    /// the message does not repeat it.
+    #[error("cannot read campaign {file}")]
     Read {
         file: PathBuf,
         #[source]
