@@ -516,7 +516,10 @@ fn an_unknown_excitation_kind_and_a_table_beyond_range_are_refused() {
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
     assert!(
-        e.contains("phases.0.excitation.kind") && e.contains("\"bogus\"") && e.contains("sine"),
+        // The key as the override spells it (a phase by name).
+        e.contains("--set phases.shake.excitation.kind=")
+            && e.contains("\"bogus\"")
+            && e.contains("sine"),
         "{e}"
     );
     // Without its dispersions (which spread the sine's amplitude and frequency).

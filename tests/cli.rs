@@ -170,6 +170,55 @@ fn set_accepts_toml_number_literals() {
     }
 }
 
+/// Regression: a `--set` whose value is out of range was reported as an error in the campaign
+/// file (`FILE: KEY = VALUE is not allowed`), which holds a valid value.
+#[test]
+fn invalid_set_value_is_attributed_to_the_override() {
+    let path = campaign_path("lh2_upper_stage");
+    let file = path.to_str().unwrap();
+    let out = std::env::temp_dir().join(format!("cryoslosh-cli-{}-set", std::process::id()));
+    for (set, allowed) in [
+        ("tank.heat_leak_w=-5", "a finite number in [0, 1e7]"),
+        // A phase by its name keeps the spelling of the override.
+        ("phases.burn1.duration_s=0", "a finite number in (0, 1e9]"),
+    ] {
+        for cmd in ["check", "run"] {
+            let mut args = vec![cmd, file, "--set", set];
+            if cmd == "run" {
+                args.extend(["--out", out.to_str().unwrap(), "--instances", "2"]);
+            }
+            let o = cryoslosh(&args);
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{cmd} --set {set}: {err}");
+            assert_eq!(
+                err.trim_end(),
+                format!(
+                    "error: --set {set} is not allowed: expected {allowed} (overriding {file})"
+                ),
+                "{cmd}"
+            );
+            assert!(!out.exists());
+        }
+    }
+    // The file's own bad value is still the file's.
+    let text = std::fs::read_to_string(&path).unwrap();
+    let bad = out.with_extension("toml");
+    std::fs::write(
+        &bad,
+        text.replacen("heat_leak_w = 150.0", "heat_leak_w = -5.0", 1),
+    )
+    .unwrap();
+    let o = cryoslosh(&["check", bad.to_str().unwrap()]);
+    assert_eq!(
+        stderr(&o).trim_end(),
+        format!(
+            "error: {}: tank.heat_leak_w = -5 is not allowed: expected a finite number in [0, 1e7]",
+            bad.display()
+        )
+    );
+    std::fs::remove_file(&bad).ok();
+}
+
 #[test]
 fn nan_and_infinity_are_rejected() {
     rejects("tank.heat_leak_w=nan", "tank.heat_leak_w");

@@ -363,7 +363,8 @@ fn bad_insulation_input_names_key_and_range() {
         ),
         (
             "phases.coast.environment=orbit",
-            &["phases.2.environment", "orbit", "ground | space"][..],
+            // The key as the override spells it (a phase by name).
+            &["--set phases.coast.environment=", "orbit", "ground | space"][..],
         ),
     ] {
         let (code, err) = check(&[set]);
@@ -471,7 +472,7 @@ fn keys_the_insulation_makes_unused_are_refused() {
 
     let bare = campaign_path("lh2_upper_stage");
     let e = Campaign::load(&bare, &["phases.0.environment=space".to_string()]).unwrap_err();
-    assert!(matches!(e, CampaignError::Invalid { .. }), "{e}");
+    assert!(matches!(e, CampaignError::InvalidOverride { .. }), "{e}");
     assert_eq!(e.key(), Some("phases.0.environment"), "{e}");
     assert!(e.to_string().contains("[insulation]"), "{e}");
 }

@@ -60,11 +60,14 @@ fn campaign_fields(c: &CampaignError, kwargs: &Bound<'_, PyDict>) -> PyResult<()
         | CampaignError::Schema { file, .. }
         | CampaignError::Override { file, .. }
         | CampaignError::Invalid { file, .. }
+        | CampaignError::InvalidOverride { file, .. }
         | CampaignError::Distribution { file, .. } => file,
     };
     kwargs.set_item("file", file.display().to_string())?;
     kwargs.set_item("key", c.key())?;
-    if let CampaignError::Invalid { value, allowed, .. } = c {
+    if let CampaignError::Invalid { value, allowed, .. }
+    | CampaignError::InvalidOverride { value, allowed, .. } = c
+    {
         kwargs.set_item("value", value)?;
         kwargs.set_item("allowed", allowed)?;
     }

@@ -48,6 +48,15 @@ pub enum CampaignError {
         value: String,
         allowed: String,
     },
+    /// A `--set` whose value a field's rule refuses (the file's own value was allowed): `key` as
+    /// the override spells it.
+    #[error("--set {key}={value} is not allowed: expected {allowed} (overriding {file})")]
+    InvalidOverride {
+        file: PathBuf,
+        key: String,
+        value: String,
+        allowed: String,
+    },
     #[error("{file}: {key}: the {distribution} distribution of {input} is invalid: {message}")]
     Distribution {
         file: PathBuf,
@@ -64,6 +73,7 @@ impl CampaignError {
         match self {
             CampaignError::Override { key, .. }
             | CampaignError::Invalid { key, .. }
+            | CampaignError::InvalidOverride { key, .. }
             | CampaignError::Distribution { key, .. } => Some(key),
             _ => None,
         }
@@ -239,8 +249,21 @@ impl Campaign {
         };
         let raw: RawCampaign =
             toml::from_str(&resolved).map_err(|e| schema_error(&file, text, overrides, &e))?;
-        let mut c = validate::validate(&raw, path, resolved)?;
-        steps::check_fixed_step(&c, &raw)?;
+        let set_keys = override_keys(&doc, overrides);
+        Campaign::validated(path, &raw, resolved, doc)
+            .map_err(|e| attribute_to_override(e, &set_keys))
+    }
+
+    /// The campaign of a parsed document (`resolved` its text): values, dispersions,
+    /// statistics and variants validated.
+    fn validated(
+        path: &Path,
+        raw: &RawCampaign,
+        resolved: String,
+        mut doc: toml::Table,
+    ) -> Result<Campaign, CampaignError> {
+        let mut c = validate::validate(raw, path, resolved)?;
+        steps::check_fixed_step(&c, raw)?;
         doc.remove("dispersions");
         doc.remove("statistics");
         let variant_list = variants::extract(&mut doc, path)?;
@@ -382,6 +405,48 @@ fn schema_error(
         "{} (after the --set overrides)",
         one_line(&e.to_string())
     ))
+}
+
+/// Each `--set`'s key as written, with its canonical form in `doc` (phases by index).
+fn override_keys(doc: &toml::Table, overrides: &[String]) -> Vec<(String, String)> {
+    overrides
+        .iter()
+        .map(|o| {
+            let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k.trim());
+            (canonical_key(doc, key), key.to_string())
+        })
+        .collect()
+}
+
+/// A value refused at a key that a `--set` gave is the override's fault, not the file's: say so.
+/// `set_keys` from [`override_keys`]; the last override of a key is the one in force.
+fn attribute_to_override(e: CampaignError, set_keys: &[(String, String)]) -> CampaignError {
+    match e {
+        CampaignError::Invalid {
+            file,
+            key,
+            value,
+            allowed,
+        } => match set_keys
+            .iter()
+            .rev()
+            .find(|(canonical, written)| *canonical == key || *written == key)
+        {
+            Some((_, written)) => CampaignError::InvalidOverride {
+                file,
+                key: written.clone(),
+                value,
+                allowed,
+            },
+            None => CampaignError::Invalid {
+                file,
+                key,
+                value,
+                allowed,
+            },
+        },
+        other => other,
+    }
 }
 
 /// Whether `key` names a numeric scalar the schema accepts (present or defaulted).
