@@ -219,6 +219,69 @@ fn invalid_set_value_is_attributed_to_the_override() {
     std::fs::remove_file(&bad).ok();
 }
 
+/// Regression: a value of the wrong type in the file was reported without its key path, with
+/// TOML's source snippet and caret squashed onto the message's line.
+#[test]
+fn toml_type_errors_name_the_key_path_value_and_expectation() {
+    let text = std::fs::read_to_string(campaign_path("lh2_upper_stage")).unwrap();
+    let file = std::env::temp_dir().join(format!("cryoslosh-cli-{}-type.toml", std::process::id()));
+    let line_of =
+        |t: &str, needle: &str| t.lines().position(|l| l.starts_with(needle)).unwrap() + 1;
+    for (from, to, key, value, expected) in [
+        (
+            "heat_leak_w = 150.0",
+            "heat_leak_w = \"forty\"",
+            "tank.heat_leak_w",
+            "\"forty\"",
+            "a number",
+        ),
+        (
+            "instances = 10000",
+            "instances = -3",
+            "campaign.instances",
+            "-3",
+            "a whole number ≥ 0",
+        ),
+        // The second [[phases]] entry, by index.
+        (
+            "duration_s = 400.0",
+            "duration_s = true",
+            "phases.1.duration_s",
+            "true",
+            "a number",
+        ),
+    ] {
+        let bad = text.replacen(from, to, 1);
+        std::fs::write(&file, &bad).unwrap();
+        let o = cryoslosh(&["check", file.to_str().unwrap()]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        let line = line_of(&bad, to);
+        let column = to.find(value).unwrap() + 1;
+        assert_eq!(
+            err.trim_end(),
+            format!(
+                "error: {}: {key} = {value} is not allowed: expected {expected} (line {line}, \
+                 column {column})",
+                file.display()
+            )
+        );
+    }
+    // Any other schema error names its key path too.
+    let bad = text.replacen("heat_leak_w = 150.0", "heat_leek_w = 150.0", 1);
+    std::fs::write(&file, &bad).unwrap();
+    let err = stderr(&cryoslosh(&["check", file.to_str().unwrap()]));
+    assert!(
+        err.starts_with(&format!(
+            "error: {}: tank.heat_leek_w: unknown field",
+            file.display()
+        )),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    std::fs::remove_file(&file).ok();
+}
+
 #[test]
 fn nan_and_infinity_are_rejected() {
     rejects("tank.heat_leak_w=nan", "tank.heat_leak_w");

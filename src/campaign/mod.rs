@@ -380,10 +380,10 @@ fn schema_error(
         message,
     };
     if overrides.is_empty() {
-        return schema(one_line(&e.to_string()));
+        return located(file, text, e);
     }
     if let Err(own) = toml::from_str::<RawCampaign>(text) {
-        return schema(one_line(&own.to_string()));
+        return located(file, text, &own);
     }
     let Ok(mut doc) = toml::from_str::<toml::Table>(text) else {
         return schema(one_line(&e.to_string()));
@@ -405,6 +405,93 @@ fn schema_error(
         "{} (after the --set overrides)",
         one_line(&e.to_string())
     ))
+}
+
+/// A schema error of the file's own `text`, on one line with its key path: a value of the wrong
+/// type or range as [`CampaignError::Invalid`] (key, value as written, what was expected, line
+/// and column), any other (an unknown or missing key) as the key path, the message and the
+/// position. TOML's own rendering put the source line and a caret on the same line as the
+/// message when joined, and named no key.
+fn located(file: &Path, text: &str, e: &toml::de::Error) -> CampaignError {
+    let schema = |message: String| CampaignError::Schema {
+        file: file.to_path_buf(),
+        message,
+    };
+    let Some(span) = e.span().filter(|s| s.start <= s.end && s.end <= text.len()) else {
+        return schema(one_line(&e.to_string()));
+    };
+    let before = &text[..span.start];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    let at = format!("line {line}, column {column}");
+    let Some(key) = key_at(text, &span) else {
+        return schema(format!("{} ({at})", one_line(e.message())));
+    };
+    let message = one_line(e.message());
+    let expected = ["invalid type: ", "invalid value: "]
+        .iter()
+        .find_map(|p| message.strip_prefix(p))
+        .and_then(|rest| rest.rsplit_once(", expected "))
+        .map(|(_, expected)| expected);
+    match expected {
+        Some(expected) => CampaignError::Invalid {
+            file: file.to_path_buf(),
+            key,
+            value: one_line(&text[span]),
+            allowed: format!("{} ({at})", expectation(expected)),
+        },
+        None => schema(format!("{key}: {message} ({at})")),
+    }
+}
+
+/// What serde's name of an expected type means in a campaign file.
+fn expectation(serde: &str) -> String {
+    match serde {
+        "f64" | "f32" => "a number".into(),
+        "u8" | "u16" | "u32" | "u64" | "usize" => "a whole number ≥ 0".into(),
+        "i8" | "i16" | "i32" | "i64" | "isize" => "a whole number".into(),
+        "a boolean" => "true or false".into(),
+        "a string" => "a string in quotes".into(),
+        other => other.into(),
+    }
+}
+
+/// The dotted key path (array entries by index) of the deepest key or value of `text` whose
+/// source span holds `span`.
+fn key_at(text: &str, span: &std::ops::Range<usize>) -> Option<String> {
+    use toml::de::{DeTable, DeValue};
+    fn holds(outer: std::ops::Range<usize>, inner: &std::ops::Range<usize>) -> bool {
+        outer.start <= inner.start && inner.end <= outer.end
+    }
+    fn in_value(v: &DeValue, span: &std::ops::Range<usize>, path: &mut Vec<String>) -> bool {
+        match v {
+            DeValue::Table(t) => in_table(t, span, path),
+            DeValue::Array(a) => a.iter().enumerate().any(|(i, x)| {
+                path.push(i.to_string());
+                let found = in_value(x.get_ref(), span, path) || holds(x.span(), span);
+                if !found {
+                    path.pop();
+                }
+                found
+            }),
+            _ => false,
+        }
+    }
+    fn in_table(t: &DeTable, span: &std::ops::Range<usize>, path: &mut Vec<String>) -> bool {
+        t.iter().any(|(k, v)| {
+            path.push(k.get_ref().to_string());
+            // A table's span need not cover its body (a `[section]` header): look inside first.
+            let found =
+                in_value(v.get_ref(), span, path) || holds(k.span(), span) || holds(v.span(), span);
+            if !found {
+                path.pop();
+            }
+            found
+        })
+    }
+    let doc = DeTable::parse(text).ok()?;
+    let mut path = Vec::new();
+    in_table(doc.get_ref(), span, &mut path).then(|| path.join("."))
 }
 
 /// Each `--set`'s key as written, with its canonical form in `doc` (phases by index).
