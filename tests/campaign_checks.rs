@@ -579,3 +579,87 @@ fn a_warm_dry_wall_needs_a_wall_cp_for_it() {
     ]);
     assert_eq!(with_cp.status.code(), Some(0), "{}", stderr(&with_cp));
 }
+
+/// Regression: a bounded dispersion reaching beyond its field's allowed range (uniform fill
+/// fraction up to 0.995 where 0.98 is the limit) passed `check` and made `run` reject its
+/// samples one by one (exit 3); the support is now checked when the campaign is loaded (exit 2).
+/// Unbounded distributions (normal, log-normal) are not: only their far tails leave the range.
+#[test]
+fn a_bounded_dispersion_beyond_its_field_range_is_refused_at_load() {
+    let mhtb = campaign_path("mhtb_selfpress");
+    let text = std::fs::read_to_string(&mhtb).unwrap();
+    let dir = scratch("support");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("c.toml");
+    // dispersions.inputs.1: propellant.fill_fraction, uniform on [0.89, 0.91].
+    std::fs::write(&file, text.replacen("hi = 0.91", "hi = 0.995", 1)).unwrap();
+    let out = dir.join("out");
+    let short = ["--set", "phases.0.duration_s=600"];
+    let expected = format!(
+        "error: {}: dispersions.inputs.1.hi = 0.995 is not allowed: expected a finite number in \
+         [0.02, 0.98], the allowed range of propellant.fill_fraction; a uniform support must \
+         lie inside it, or the samples beyond it are rejected at run time",
+        file.display()
+    );
+    for args in [
+        vec!["check", file.to_str().unwrap()],
+        vec![
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        vec![
+            "simulate",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    ] {
+        let o = cryoslosh(&[&args[..], &short].concat());
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert_eq!(stderr(&o).trim_end(), expected, "{args:?}");
+        assert!(!out.exists(), "{args:?}: wrote {}", out.display());
+    }
+    // Wholly outside, from a --set, and a choice's value: the parameter is named.
+    let camp = mhtb.to_str().unwrap();
+    for (sets, blamed) in [
+        (
+            &[
+                "dispersions.inputs.1.lo=0.99",
+                "dispersions.inputs.1.hi=0.995",
+            ][..],
+            "dispersions.inputs.1.lo=0.99",
+        ),
+        (
+            &["dispersions.inputs.2.lo=-6"][..],
+            "dispersions.inputs.2.lo=-6",
+        ),
+    ] {
+        let mut args = vec!["check", camp];
+        for set in sets {
+            args.extend(["--set", set]);
+        }
+        let o = cryoslosh(&args);
+        assert_eq!(o.status.code(), Some(2), "{sets:?}: {}", stderr(&o));
+        let head = format!("error: --set {blamed} is not allowed: expected ");
+        assert!(stderr(&o).starts_with(&head), "{}", stderr(&o));
+    }
+    let choice = text.replacen(
+        "distribution = \"uniform\"\nlo = 0.89\nhi = 0.91",
+        "distribution = \"choice\"\nvalues = [0.9, 0.99]",
+        1,
+    );
+    std::fs::write(&file, choice).unwrap();
+    let o = cryoslosh(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("dispersions.inputs.1.values.1 = 0.99 is not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    // A normal whose far tail crosses zero heat leak still loads: `check` warns, `run` counts.
+    let o = cryoslosh(&["check", camp, "--set", "dispersions.inputs.0.std=30"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::remove_dir_all(dir).ok();
+}

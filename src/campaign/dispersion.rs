@@ -187,6 +187,71 @@ fn distribution(c: &Checker, base: &str, r: &RawInput) -> Result<Distribution, C
     })
 }
 
+/// The values a bounded distribution can reach at the edges of its support, with the parameter
+/// that sets each: `lo` and `hi` (uniform, triangular, truncated normal) or every value of a
+/// choice. Normal and log-normal are unbounded (above), so none: their far tails may leave a
+/// field's range, and those samples are rejected at run time (`check`'s screen counts them).
+fn support_edges(d: &Distribution) -> Vec<(String, f64)> {
+    match d {
+        Distribution::Uniform { lo, hi }
+        | Distribution::Triangular { lo, hi, .. }
+        | Distribution::TruncatedNormal { lo, hi, .. } => {
+            vec![("lo".into(), *lo), ("hi".into(), *hi)]
+        }
+        Distribution::Choice { values, .. } => values
+            .iter()
+            .enumerate()
+            .map(|(j, &v)| (format!("values.{j}"), v))
+            .collect(),
+        Distribution::Normal { .. } | Distribution::LogNormal { .. } => Vec::new(),
+    }
+}
+
+/// A bounded support must lie wholly inside its field's allowed range: each edge (see
+/// [`support_edges`]) is tried with the rest of the campaign as written (`allowed(key, v)`
+/// validates it with `key` set to `v`). A support that leaves the range, wholly or in part, is
+/// a user error (exit 2) naming the parameter, its value and the range, not a share of instances
+/// rejected at run time (exit 3). `canonical` compares key spellings (a phase by name or index).
+pub(super) fn check_supports(
+    c: &Checker,
+    d: &Dispersions,
+    allowed: impl Fn(&str, f64) -> Result<(), CampaignError>,
+    canonical: impl Fn(&str) -> String,
+) -> Result<(), CampaignError> {
+    for (i, input) in d.inputs.iter().enumerate() {
+        for (parameter, v) in support_edges(&input.distribution) {
+            let Err(e) = allowed(&input.key, v) else {
+                continue;
+            };
+            let why = match &e {
+                CampaignError::Invalid { key, allowed, .. }
+                    if canonical(key) == canonical(&input.key) =>
+                {
+                    format!("{allowed}, the allowed range of {}", input.key)
+                }
+                CampaignError::Invalid {
+                    key,
+                    value,
+                    allowed,
+                    ..
+                } => format!(
+                    "a value the campaign allows for {} (there {key} = {value} is not \
+                     allowed: expected {allowed})",
+                    input.key
+                ),
+                other => format!("a value the campaign allows for {} ({other})", input.key),
+            };
+            let why = format!(
+                "{why}; a {} support must lie inside it, or the samples beyond it are \
+                 rejected at run time",
+                input.distribution.name()
+            );
+            return Err(c.table_err(&format!("dispersions.inputs.{i}.{parameter}"), v, why));
+        }
+    }
+    Ok(())
+}
+
 /// Validate the raw section. `known_scalar(key)` says whether a key path names a numeric scalar of
 /// the campaign (checked by the caller against the parsed document).
 pub(super) fn validate(

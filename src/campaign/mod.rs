@@ -218,7 +218,17 @@ impl Campaign {
             file: path.to_path_buf(),
             source,
         })?;
-        Campaign::from_text(path, &text, overrides)
+        let c = Campaign::from_text(path, &text, overrides)?;
+        // Here, not in `from_text`: a run made before this check (whose text replay, merge and
+        // report read back) stays readable.
+        dispersion::check_supports(
+            &validate::Checker { file: path },
+            &c.dispersions,
+            |key, v| c.with_numbers([(key, v)]).map(|_| ()),
+            |key| canonical_key(&c.document, key),
+        )
+        .map_err(|e| attribute_to_override(e, &override_keys(&c.document, overrides)))?;
+        Ok(c)
     }
 
     /// Parse campaign `text` as if read from `path`.
@@ -341,14 +351,31 @@ impl Campaign {
     /// The campaign of one instance: `values[j]` set at `dispersions.inputs[j].key`, then
     /// validated like the nominal. An error means the sample left a field's allowed range.
     pub fn instance(&self, values: &[f64]) -> Result<Campaign, CampaignError> {
+        let keys = self
+            .dispersions
+            .inputs
+            .iter()
+            .map(|input| input.key.as_str());
+        let mut c = self.with_numbers(keys.zip(values.iter().copied()))?;
+        c.dispersions = dispersion::Dispersions::default();
+        c.statistics = self.statistics.clone();
+        c.variants = Vec::new();
+        c.record_events = self.record_events;
+        Ok(c)
+    }
+
+    /// The document with each `(key, value)` set, validated like the nominal (no dispersions,
+    /// statistics or variants).
+    fn with_numbers<'k>(
+        &self,
+        values: impl IntoIterator<Item = (&'k str, f64)>,
+    ) -> Result<Campaign, CampaignError> {
         let mut doc = self.document.clone();
-        for (input, &v) in self.dispersions.inputs.iter().zip(values) {
-            set_number(&mut doc, &input.key, v).map_err(|(key, message)| {
-                CampaignError::Override {
-                    file: self.path.clone(),
-                    key,
-                    message,
-                }
+        for (key, v) in values {
+            set_number(&mut doc, key, v).map_err(|(key, message)| CampaignError::Override {
+                file: self.path.clone(),
+                key,
+                message,
             })?;
         }
         let raw: RawCampaign =
@@ -358,12 +385,7 @@ impl Campaign {
                     file: self.path.clone(),
                     message: one_line(&e.to_string()),
                 })?;
-        let mut c = validate::validate(&raw, &self.path, String::new())?;
-        c.dispersions = dispersion::Dispersions::default();
-        c.statistics = self.statistics.clone();
-        c.variants = Vec::new();
-        c.record_events = self.record_events;
-        Ok(c)
+        validate::validate(&raw, &self.path, String::new())
     }
 }
 
