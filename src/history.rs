@@ -18,6 +18,11 @@ pub fn provenance(c: &Campaign, backend: &str, shard: &str) -> Vec<(String, Stri
         ("cryoslosh.shard".into(), shard.to_string()),
         ("cryoslosh.backend".into(), backend.to_string()),
         ("cryoslosh.version".into(), crate::VERSION.to_string()),
+        // The CPU build (lane width, instruction-set extensions): what the speed depends on.
+        (
+            "cryoslosh.build".into(),
+            crate::lanes::isa::build_description(),
+        ),
         (
             "cryoslosh.fidelity".into(),
             c.params.fidelity.name().to_string(),

@@ -39,10 +39,24 @@ fn stdout_result(r: std::io::Result<()>) -> anyhow::Result<()> {
     }
 }
 
+/// `--version`: the version and the CPU build ([`cryoslosh::lanes::isa::build_description`]),
+/// so that a user can tell which build ran (`-V` prints the version alone).
+fn long_version() -> &'static str {
+    static TEXT: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+        format!(
+            "{}\nbuild: {}",
+            cryoslosh::VERSION,
+            cryoslosh::lanes::isa::build_description()
+        )
+    });
+    TEXT.as_str()
+}
+
 #[derive(Parser)]
 #[command(
     name = "cryoslosh",
     version,
+    long_version = long_version(),
     about = "Monte Carlo dispersion engine for cryogenic propellant tanks"
 )]
 struct Cli {

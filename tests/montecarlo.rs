@@ -83,6 +83,9 @@ fn three_shards_merged_equal_the_full_run() {
     .unwrap();
     assert_eq!(report.instances, 31);
     assert_eq!(report.instance_steps, full_report.instance_steps);
+    // Shards of one build: the merge names that build once, as the full run does.
+    assert_eq!(report.build, full_report.build);
+    assert_eq!(report.build, cryoslosh::lanes::isa::build_description());
     for f in ["instances.parquet", "statistics.parquet"] {
         assert!(
             bytes(&full, f) == bytes(&merged, f),

@@ -1,6 +1,6 @@
 //! The first line of `run`'s summary (found by a new-user test of the CLI): it said "1 threads",
 //! and after `--resume` its rate divided every instance-step, those loaded from the checkpoint
-//! too, by the wall time of the resumed part alone.
+//! too, by the wall time of the resumed part alone; and nothing said which CPU build ran.
 
 mod common;
 use common::campaign_path;
@@ -92,5 +92,46 @@ fn resumed_rate_counts_only_the_steps_integrated_now() {
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(whole.join("run.json")).unwrap()).unwrap();
     assert_eq!(json["resumed_instance_steps"], 0);
+    std::fs::remove_dir_all(root).ok();
+}
+
+/// Regression (issue 18): nothing said which CPU build ran (lanes per group, AVX2 or AVX-512),
+/// though the speed depends on it: `--version`, `run.json` and every Parquet file say it now.
+#[test]
+fn the_cpu_build_is_recorded_in_version_run_json_and_parquet() {
+    let v = common::cryoslosh_at(&["--version"], None);
+    assert!(v.status.success());
+    let text = String::from_utf8_lossy(&v.stdout);
+    let build = text
+        .lines()
+        .find_map(|l| l.strip_prefix("build: "))
+        .unwrap_or_else(|| panic!("no build line in --version: {text}"))
+        .to_string();
+    let width = build
+        .split(", ")
+        .nth(1)
+        .and_then(|w| w.strip_suffix(" f64 lanes"))
+        .and_then(|w| w.parse::<usize>().ok())
+        .unwrap_or_else(|| panic!("no lane width in {build}"));
+    assert!(width == 16 || width == 32, "{build}");
+    let root = scratch("build");
+    let out = root.join("r");
+    let o = run(&out, &["--instances", "4", "--threads", "1"], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["build"], build.as_str());
+    let file = std::fs::File::open(out.join("instances.parquet")).unwrap();
+    let meta = parquet::file::reader::SerializedFileReader::new(file).unwrap();
+    let kv = parquet::file::reader::FileReader::metadata(&meta)
+        .file_metadata()
+        .key_value_metadata()
+        .cloned()
+        .unwrap_or_default();
+    let stored = kv.iter().find(|e| e.key == "cryoslosh.build");
+    assert_eq!(
+        stored.and_then(|e| e.value.as_deref()),
+        Some(build.as_str())
+    );
     std::fs::remove_dir_all(root).ok();
 }

@@ -80,6 +80,24 @@ pub fn cpu_features() -> Option<Vec<&'static str>> {
     None
 }
 
+/// What this binary's CPU engine was built as, for `--version`, `run.json` and the Parquet
+/// provenance: the architecture, the lane-group width ([`super::WIDTH`] `f64` lanes) and the
+/// extensions of [`CHECKED`] compiled in, e.g. "x86_64, 16 f64 lanes, avx2 fma …". Results do
+/// not depend on it (the same bits from every build); speed does.
+pub fn build_description() -> String {
+    let features = compiled_features();
+    let features = if features.is_empty() {
+        "baseline instruction set".to_string()
+    } else {
+        features.join(" ")
+    };
+    format!(
+        "{}, {} f64 lanes, {features}",
+        std::env::consts::ARCH,
+        super::WIDTH
+    )
+}
+
 /// The members of `compiled` absent from `have` (in `compiled`'s order).
 pub fn missing<'a>(compiled: &[&'a str], have: &[&str]) -> Vec<&'a str> {
     compiled
@@ -143,6 +161,22 @@ mod tests {
             .filter(|f| flags.contains(&linux_name(f).as_str()))
             .collect();
         assert_eq!(cpu_features().expect("x86-64"), from_kernel);
+    }
+
+    #[test]
+    fn the_build_description_names_the_width_and_each_compiled_feature() {
+        let d = build_description();
+        assert!(d.starts_with(std::env::consts::ARCH), "{d}");
+        assert!(
+            d.contains(&format!(", {} f64 lanes, ", crate::lanes::WIDTH)),
+            "{d}"
+        );
+        for f in compiled_features() {
+            assert!(d.split([' ', ',']).any(|w| w == f), "{f} missing from {d}");
+        }
+        if cfg!(target_feature = "avx512f") {
+            assert!(d.contains("32 f64 lanes") && d.contains("avx512f"), "{d}");
+        }
     }
 
     #[test]

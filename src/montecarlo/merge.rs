@@ -143,6 +143,21 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
     let dir = staging.path().to_path_buf();
     let mut meta = first.meta.clone();
     set_meta(&mut meta, "cryoslosh.shard", Shard::ALL.to_string());
+    // Shards run by different CPU builds (an AVX2 and an AVX-512 machine) give the same bits;
+    // the merged files name every build that ran, in shard order.
+    let mut builds: Vec<&str> = Vec::new();
+    for b in shards
+        .iter()
+        .filter_map(|s| meta_value(&s.meta, "cryoslosh.build"))
+    {
+        if !builds.contains(&b) {
+            builds.push(b);
+        }
+    }
+    let build = builds.join(" | ");
+    if builds.len() > 1 {
+        set_meta(&mut meta, "cryoslosh.build", build.clone());
+    }
     let inst_path = dir.join("instances.parquet");
     let mut writer = InstanceWriter::create(&inst_path, &c, meta.clone())?;
     let (mut rows, mut diverged, mut rejected) = (0, 0, 0);
@@ -231,6 +246,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
             .sum(),
         backend: first.run["backend"].as_str().unwrap_or("cpu").into(),
         device: format!("{count} shards (merged)"),
+        build,
         threads: shards
             .iter()
             .map(|s| s.run["threads"].as_u64().unwrap_or(0) as usize)

@@ -108,6 +108,9 @@ pub struct RunReport {
     pub wall_s: f64,
     pub backend: String,
     pub device: String,
+    /// The CPU build that ran ([`crate::lanes::isa::build_description`]; a merge: each shard's
+    /// distinct build, in shard order, joined by " | ").
+    pub build: String,
     pub threads: usize,
     pub seed: u64,
     pub shard: String,
@@ -550,6 +553,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         wall_s,
         backend: engine.name().into(),
         device: engine.device(),
+        build: crate::lanes::isa::build_description(),
         threads: match backend {
             Backend::Cpu(e) => e.threads(),
             Backend::Gpu(_) => rayon::current_num_threads(),
@@ -635,6 +639,7 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "until": r.until.as_ref().map(|(_, json)| json),
         "histories": r.histories,
         "version": crate::VERSION,
+        "build": r.build,
     });
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
     write_atomic(&dir.join("run.json"), text.as_bytes())?;

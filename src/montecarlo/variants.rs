@@ -123,6 +123,7 @@ fn write_run_json(dir: &Path, r: &VariantsReport, seed: u64, shard: &str) -> Res
         "integrator": first.integrator,
         "untrusted": r.untrusted(),
         "version": crate::VERSION,
+        "build": crate::lanes::isa::build_description(),
     });
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
     write_atomic(&dir.join("run.json"), text.as_bytes())?;
