@@ -21,5 +21,16 @@ pub mod sampling;
 pub mod simulate;
 pub mod stats;
 
+/// `eprintln!` that cannot panic: where standard error is closed or fails (`cryoslosh … 2>&1 |
+/// head` after `head` has exited), the line is lost instead of the command ending in a panic
+/// (exit 101) in place of its own exit code.
+#[macro_export]
+macro_rules! eprintln_lossy {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 /// Crate version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

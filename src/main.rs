@@ -190,7 +190,7 @@ enum Command {
 fn main() -> ExitCode {
     let missing = cryoslosh::lanes::isa::missing_features();
     if !missing.is_empty() {
-        eprintln!(
+        cryoslosh::eprintln_lossy!(
             "error: this cryoslosh was built for CPU extensions this CPU lacks ({}); rebuild \
              it with {}",
             missing.join(", "),
@@ -203,7 +203,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            cryoslosh::eprintln_lossy!("error: {e:#}");
             let bad_input = e.downcast_ref::<CampaignError>().is_some()
                 || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<RunError>()

@@ -347,6 +347,23 @@ fn missing_campaign_file_names_the_os_error_once() {
     assert_eq!(err.lines().count(), 1, "{err}");
 }
 
+/// Regression: with standard error a pipe nobody reads (`cryoslosh … 2>&1 | head` after `head`
+/// exited), printing the error panicked (exit 101) instead of exiting with the command's code.
+#[test]
+fn a_closed_stderr_keeps_the_exit_code() {
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    let missing =
+        std::env::temp_dir().join(format!("cryoslosh-cli-{}-gone.toml", std::process::id()));
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_cryoslosh"))
+        .args(["check", missing.to_str().unwrap()])
+        .stdout(std::process::Stdio::null())
+        .stderr(writer)
+        .status()
+        .expect("cryoslosh runs");
+    assert_eq!(status.code(), Some(2), "{status}");
+}
+
 #[test]
 fn check_prints_the_resolved_nominal() {
     let o = cryoslosh(&[

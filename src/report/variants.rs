@@ -119,7 +119,7 @@ pub fn report_variants(dir: &Path, opts: &ReportOptions) -> Result<ReportSummary
     for (k, v) in campaign.variants.iter().enumerate() {
         if opts.progress {
             let n = campaign.variants.len();
-            eprintln!("report: variant {} ({}/{n})", v.name, k + 1);
+            crate::eprintln_lossy!("report: variant {} ({}/{n})", v.name, k + 1);
         }
         let own = variant_dir(dir, &v.name);
         let sub = ReportOptions {

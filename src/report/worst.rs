@@ -90,7 +90,7 @@ pub fn worst_cases(
     for (k, (q, rank, i, value)) in picks.iter().enumerate() {
         bar.inc(1);
         if lines {
-            eprintln!(
+            crate::eprintln_lossy!(
                 "report: re-simulating worst case {}/{} (instance {i}, {q})",
                 k + 1,
                 picks.len()
