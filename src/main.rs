@@ -187,6 +187,24 @@ enum Command {
     },
 }
 
+/// The error and its causes on one line, as `{:#}` writes them, without a cause whose text an
+/// outer message already holds: errors that put their source in their own message ("cannot
+/// write X: {source}") and also return it as `source()` printed the OS error twice.
+fn error_text(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let c = cause.to_string();
+        if text.contains(&c) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&c);
+    }
+    text
+}
+
 fn main() -> ExitCode {
     let missing = cryoslosh::lanes::isa::missing_features();
     if !missing.is_empty() {
@@ -203,7 +221,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            cryoslosh::eprintln_lossy!("error: {e:#}");
+            cryoslosh::eprintln_lossy!("error: {}", error_text(&e));
             let bad_input = e.downcast_ref::<CampaignError>().is_some()
                 || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<RunError>()
@@ -308,8 +326,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             c.record_events = true;
             let q = simulate::simulate(&c, &c.params, Some(&mut h));
             let wall = start.elapsed().as_secs_f64();
-            let rows = cryoslosh::history::write_history(&out, &c, &h, &label, q.divergence())
-                .with_context(|| format!("writing {}", out.display()))?;
+            // The error names the file and its cause (`OutputError`).
+            let rows = cryoslosh::history::write_history(&out, &c, &h, &label, q.divergence())?;
             outln!("{}", simulate::describe_summary(&q));
             outln!(
                 "{} steps in {:.2} s ({:.0} steps/s); {} rows → {}",
@@ -540,8 +558,7 @@ fn replay(dir: &std::path::Path, i: u64, out: &std::path::Path) -> anyhow::Resul
         );
     } else {
         let q = &record.summary;
-        let rows = cryoslosh::history::write_history(out, c, &h, &i.to_string(), q.divergence())
-            .with_context(|| format!("writing {}", out.display()))?;
+        let rows = cryoslosh::history::write_history(out, c, &h, &i.to_string(), q.divergence())?;
         outln!("{}", simulate::describe_summary(q));
         outln!("{} steps; {rows} rows → {}", q.steps, out.display());
     }

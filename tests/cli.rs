@@ -347,6 +347,26 @@ fn missing_campaign_file_names_the_os_error_once() {
     assert_eq!(err.lines().count(), 1, "{err}");
 }
 
+/// Regression: an output file that cannot be created printed its path and OS error twice
+/// ("error: writing X: cannot write X: No such file or directory (os error 2): No such file or
+/// directory (os error 2)").
+#[test]
+fn an_unwritable_output_names_its_path_and_os_error_once() {
+    let out = std::env::temp_dir()
+        .join(format!("cryoslosh-cli-{}-no-dir", std::process::id()))
+        .join("h.parquet");
+    let o = cryoslosh(&[
+        "simulate",
+        campaign_path("mhtb_selfpress").to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.matches(out.to_str().unwrap()).count(), 1, "{err}");
+    assert_eq!(err.matches("(os error 2)").count(), 1, "{err}");
+}
+
 /// Regression: with standard error a pipe nobody reads (`cryoslosh … 2>&1 | head` after `head`
 /// exited), printing the error panicked (exit 101) instead of exiting with the command's code.
 #[test]
