@@ -1,7 +1,8 @@
 //! The `[dispersions]` section: which campaign scalars vary, how, and under which design.
 //!
 //! Inputs name any numeric scalar of the campaign by its `--set` key path. Each instance's values
-//! come from (seed, instance index) alone, so results do not depend on threads or shards.
+//! come from the seed, the instance index and, under Latin hypercube sampling (whose strata it
+//! sets), the instance count: never from threads, chunks or shards.
 
 use super::validate::Checker;
 use super::CampaignError;
