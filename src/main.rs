@@ -187,20 +187,21 @@ enum Command {
     },
 }
 
-/// The error and its causes on one line, as `{:#}` writes them, without a cause whose text an
-/// outer message already holds: errors that put their source in their own message ("cannot
-/// write X: {source}") and also return it as `source()` printed the OS error twice.
+/// The error and its causes on one line, as `{:#}` writes them, without a cause that the
+/// message wrapping it already ends with: errors that put their source in their own message
+/// ("cannot write X: {source}") and also return it as `source()` printed the OS error twice.
 fn error_text(e: &anyhow::Error) -> String {
     let mut text = String::new();
+    let mut outer = String::new();
     for cause in e.chain() {
         let c = cause.to_string();
-        if text.contains(&c) {
-            continue;
+        if !c.is_empty() && !outer.ends_with(&format!(": {c}")) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&c);
         }
-        if !text.is_empty() {
-            text.push_str(": ");
-        }
-        text.push_str(&c);
+        outer = c;
     }
     text
 }

@@ -130,7 +130,14 @@ pub fn trial_in<T: Real>(
         k,
         error,
     } = out;
-    // The slots beyond the level's are 0 in every state and rate; the stage carries `s`'s.
+    // The slots beyond the level's are 0 in every state and rate (k1 included: it is an
+    // evaluation's rates, written over the used slots only); the stage carries `s`'s.
+    debug_assert!(
+        k1[n..]
+            .iter()
+            .all(|v| (0..T::LANES).all(|i| v.lane(i) == 0.0)),
+        "k1 past the used slots"
+    );
     y[n..].copy_from_slice(&s[n..]);
     k[0][..n].copy_from_slice(&k1[..n]);
     for stage in 1..7 {
