@@ -314,15 +314,16 @@ pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
 /// side reuses one instead of moving a new one through every caller).
 pub fn derive_into<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, out: &mut Derived<T>) {
     match g.shared().fidelity {
-        Fidelity::Homogeneous => *out = super::homogeneous::derive(g, s, d),
+        Fidelity::Homogeneous => {
+            *out = super::homogeneous::derive(g, s, d);
+            liquid_range(out);
+        }
         Fidelity::Lumped | Fidelity::TwoMode => derive_nodes(g, &g.tank(), s, d, out),
         Fidelity::Layered => {
             let prof = super::column::profile(g, s);
             *out = super::column::derive_column(g, s, d, &prof);
-            return;
         }
     }
-    liquid_range(out);
 }
 
 /// The liquid's temperature range of a level with at most two liquid nodes.

@@ -92,29 +92,16 @@ pub struct Tolerance<T: Real> {
 }
 
 /// Attempt one step of length `h` (per lane) from state `s` at phase time `t`; `k1` is the
-/// derivative at (s, t) (first same as last). `drive(t)` gives the trajectory at time t; the
-/// linearly implicit stiff terms of the right-hand side take `h` as their step.
-#[expect(clippy::too_many_arguments, reason = "the step's inputs")]
+/// derivative at (s, t) (first same as last), `evap0` the evaporation rate there. `drive(t)`
+/// gives the trajectory at time t; the linearly implicit stiff terms of the right-hand side take
+/// `h` as their step.
+///
+/// Written into `out`, in place (a [`Trial::default`] or an earlier attempt of the same group):
+/// a caller that takes many steps keeps one, instead of zeroing and moving seven stage states
+/// and two evaluations (75 kB for a lane group of 16) per attempt. The stages are built in
+/// `out.end` and evaluated into `out.end_eval`, over the level's used slots; the last stage's
+/// are the step's end.
 pub fn trial<T: Real>(
-    g: Group<'_>,
-    drive: impl Fn(T) -> Drive<T>,
-    s: &State<T>,
-    k1: &State<T>,
-    evap0: T,
-    t: T,
-    h: T,
-    tol: &Tolerance<T>,
-) -> Trial<T> {
-    let mut out = Trial::default();
-    trial_in(g, drive, s, k1, (evap0, t, h), tol, &mut out);
-    out
-}
-
-/// [`trial`] into `out`, in place (what it held before does not matter): a caller that takes
-/// many steps keeps one, instead of zeroing and moving seven stage states and two evaluations
-/// (75 kB for a lane group of 16) per attempt. The stages are built in `out.end` and evaluated
-/// into `out.end_eval`, over the level's used slots; the last stage's are the step's end.
-pub fn trial_in<T: Real>(
     g: Group<'_>,
     drive: impl Fn(T) -> Drive<T>,
     s: &State<T>,
@@ -178,7 +165,7 @@ pub fn trial_in<T: Real>(
     *error = T::select(lag.le(*error), *error, lag);
 }
 
-/// All zeros: what [`trial_in`] writes over.
+/// All zeros: what [`trial`] writes over.
 impl<T: Real> Default for Trial<T> {
     fn default() -> Self {
         Trial {
@@ -224,13 +211,12 @@ impl Dense {
         n: usize,
     ) {
         let r = &mut self.r;
-        for i in 0..NS {
+        for i in n..NS {
+            r[0][i] = y0[i].lane(lane);
+            (r[1][i], r[2][i], r[3][i], r[4][i]) = (0.0, 0.0, 0.0, 0.0);
+        }
+        for i in 0..n {
             let (a, b) = (y0[i].lane(lane), y1[i].lane(lane));
-            if i >= n {
-                r[0][i] = a;
-                (r[1][i], r[2][i], r[3][i], r[4][i]) = (0.0, 0.0, 0.0, 0.0);
-                continue;
-            }
             let diff = b - a;
             let bspl = h * k[0][i].lane(lane) - diff;
             let mut d = 0.0;
@@ -256,11 +242,7 @@ impl Dense {
 
     /// The state at fraction `theta` ∈ [0, 1] of the step (fourth-order accurate).
     pub fn at(&self, theta: f64) -> State {
-        let r = &self.r;
-        let u = 1.0 - theta;
-        std::array::from_fn(|i| {
-            r[0][i] + theta * (r[1][i] + u * (r[2][i] + theta * (r[3][i] + u * r[4][i])))
-        })
+        std::array::from_fn(|i| self.slot_at(i, theta))
     }
 }
 

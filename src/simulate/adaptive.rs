@@ -564,7 +564,7 @@ pub(super) fn integrate<'a, T: Real>(
         let k1: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].k1[j]));
         let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
         let evap0 = T::from_fn(|i| lanes[i].last.fluxes.evap_kg_s);
-        dopri::trial_in(g, drive, &s, &k1, (evap0, t, h), &tol, &mut trial);
+        dopri::trial(g, drive, &s, &k1, (evap0, t, h), &tol, &mut trial);
         let accepted = T::Mask::from_fn(|i| !lanes[i].done && trial.error.lane(i) <= 1.0);
         // Each accepted lane's dense output (built once, for the probe and for `accept`), and
         // the mid-step probe of every accepted lane, evaluated together.
