@@ -133,10 +133,16 @@ pub struct RunReport {
 }
 
 impl RunReport {
-    /// Instance-steps per second of the work this invocation did: the steps it integrated over
-    /// its wall time (a resumed run's steps loaded from its checkpoint took none of it).
+    /// The instance-steps this invocation integrated (a resumed run's loaded from its
+    /// checkpoint left out).
+    pub fn steps_integrated(&self) -> u64 {
+        self.instance_steps.saturating_sub(self.resumed_steps)
+    }
+
+    /// Instance-steps per second of the work this invocation did: [`Self::steps_integrated`]
+    /// over its wall time (a resumed run's steps loaded from its checkpoint took none of it).
     pub fn steps_per_s(&self) -> f64 {
-        self.instance_steps.saturating_sub(self.resumed_steps) as f64 / self.wall_s.max(1e-9)
+        self.steps_integrated() as f64 / self.wall_s.max(1e-9)
     }
 
     /// Why the run's statistics cannot be signed (too many rejected or diverged instances), or

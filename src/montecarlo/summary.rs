@@ -91,7 +91,7 @@ pub fn summary_text(r: &RunReport) -> String {
             "{} instance-steps ({} from the checkpoint, {} integrated now) in",
             r.instance_steps,
             r.resumed_steps,
-            r.instance_steps.saturating_sub(r.resumed_steps)
+            r.steps_integrated()
         )
     };
     let mut out = format!(
