@@ -32,5 +32,26 @@ macro_rules! eprintln_lossy {
     }};
 }
 
+/// An error and its sources on one line, joined by ": " as anyhow's `{:#}` joins them, without a
+/// source that the message wrapping it already ends with: errors that put their source in their
+/// own message ("cannot write X: {source}", so that `to_string` alone keeps the reason) and also
+/// return it as `source()` printed the OS error twice. What the CLI prints after `error: ` and
+/// the Python exceptions carry.
+pub fn error_text(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut outer = text.clone();
+    let mut source = e.source();
+    while let Some(s) = source {
+        let c = s.to_string();
+        if !c.is_empty() && !outer.ends_with(&format!(": {c}")) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+        outer = c;
+        source = s.source();
+    }
+    text
+}
+
 /// Crate version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

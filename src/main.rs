@@ -187,25 +187,6 @@ enum Command {
     },
 }
 
-/// The error and its causes on one line, as `{:#}` writes them, without a cause that the
-/// message wrapping it already ends with: errors that put their source in their own message
-/// ("cannot write X: {source}") and also return it as `source()` printed the OS error twice.
-fn error_text(e: &anyhow::Error) -> String {
-    let mut text = String::new();
-    let mut outer = String::new();
-    for cause in e.chain() {
-        let c = cause.to_string();
-        if !c.is_empty() && !outer.ends_with(&format!(": {c}")) {
-            if !text.is_empty() {
-                text.push_str(": ");
-            }
-            text.push_str(&c);
-        }
-        outer = c;
-    }
-    text
-}
-
 fn main() -> ExitCode {
     let missing = cryoslosh::lanes::isa::missing_features();
     if !missing.is_empty() {
@@ -222,7 +203,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            cryoslosh::eprintln_lossy!("error: {}", error_text(&e));
+            cryoslosh::eprintln_lossy!("error: {}", cryoslosh::error_text(e.as_ref()));
             let bad_input = e.downcast_ref::<CampaignError>().is_some()
                 || e.downcast_ref::<BadInput>().is_some()
                 || e.downcast_ref::<RunError>()

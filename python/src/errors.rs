@@ -8,16 +8,9 @@ use cryoslosh::runner::RunnerError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// The message the CLI prints after `error: ` (the error and its sources, as anyhow's `{:#}`).
+/// The message the CLI prints after `error: ` ([`cryoslosh::error_text`]).
 pub fn message(e: &dyn std::error::Error) -> String {
-    let mut text = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        text.push_str(": ");
-        text.push_str(&s.to_string());
-        source = s.source();
-    }
-    text
+    cryoslosh::error_text(e)
 }
 
 /// An instance of the class `name` of `cryoslosh.errors`, called with `message` and `kwargs`.

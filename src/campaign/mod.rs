@@ -23,9 +23,9 @@ use std::path::{Path, PathBuf};
 /// Why a campaign could not be loaded. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum CampaignError {
-    /// The OS error is the source, printed after the message by the error chain (`{:#}`), so
-    /// the message does not repeat it.
-    #[error("cannot read campaign {file}")]
+    /// The OS error is in the message (`to_string` alone keeps it) and is the source too;
+    /// [`crate::error_text`] prints it once.
+    #[error("cannot read campaign {file}: {source}")]
     Read {
         file: PathBuf,
         #[source]
