@@ -16,9 +16,9 @@ component takes in the file, not to 1e-9 of its own rounding noise.
 Conditioning allowance. Some rates are a small difference of large terms: the evaporation rate
 is K (P_sat(T_s) − P_v), and on a locked-up tank P_v sits within 1e-9 of P_sat (9e-5 Pa of
 1.1e5 Pa), so a last-bit change of the ullage temperature (1e-15) moves that rate by 1e-6
-relative. Rounding alone then decides those digits: the numpy port, which performs the Rust
-operations in the same order with the same libm, agrees to 1e-9 anyway, but XLA's own exp/log
-do not round like glibc's. Such an element also passes when its difference is within the
+relative. Rounding alone then decides those digits: the numpy port performs the Rust operations
+in the same order, but rounds the multiply and the add of each of cryoslosh's fused
+multiply-adds separately, and XLA's own exp/log do not round like glibc's. Such an element also passes when its difference is within the
 rate's measured rounding sensitivity: `sens` = the largest change of the numpy rate when every
 state slot is perturbed by ±SENS_ULPS units in the last place (SENS_DRAWS random draws), times
 SENS_FACTOR. The report counts the elements that needed the allowance. A port error (a wrong

@@ -266,7 +266,9 @@ pub struct FluidProps {
 /// Horner evaluation of `Σ c_i x^i`.
 #[inline]
 pub(crate) fn poly<T: Real>(c: &[f64; NCOEF], x: T) -> T {
-    c.iter().rev().fold(T::splat(0.0), |acc, &a| acc * x + a)
+    c.iter()
+        .rev()
+        .fold(T::splat(0.0), |acc, &a| acc.mul_add_c(x, a))
 }
 
 /// Horner evaluation of the derivative `Σ i c_i x^(i−1)`.
@@ -276,7 +278,7 @@ pub(crate) fn poly_deriv<T: Real>(c: &[f64; NCOEF], x: T) -> T {
     // lumped run's instructions).
     let mut acc = T::splat(0.0);
     for i in (1..NCOEF).rev() {
-        acc = acc * x + i as f64 * c[i];
+        acc = acc.mul_add_c(x, i as f64 * c[i]);
     }
     acc
 }
@@ -296,10 +298,9 @@ const RECIPROCALS: [f64; NCOEF] = [
 /// Horner evaluation of the antiderivative `Σ c_i x^(i+1) / (i+1)` (zero at x = 0).
 #[inline]
 fn poly_integral<T: Real>(c: &[f64; NCOEF], x: T) -> T {
-    (0..NCOEF)
-        .rev()
-        .fold(T::splat(0.0), |acc, i| acc * x + c[i] * RECIPROCALS[i])
-        * x
+    (0..NCOEF).rev().fold(T::splat(0.0), |acc, i| {
+        acc.mul_add_c(x, c[i] * RECIPROCALS[i])
+    }) * x
 }
 
 /// `ln(T / t_ref)` with T clamped to the power-law range: one logarithm serves every law with

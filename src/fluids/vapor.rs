@@ -53,8 +53,8 @@ impl FluidProps {
         let zero = T::splat(0.0);
         let (mut q, mut dq) = (zero, zero);
         for k in (0..NIDEAL).rev() {
-            dq = dq * x + q;
-            q = q * x + self.vapor_ideal[k];
+            dq = dq.mul_add(x, q);
+            q = q.mul_add_c(x, self.vapor_ideal[k]);
         }
         let cv = q + dq * s * inv_span;
         let rs = self.r_specific_j_per_kg_k();
@@ -96,9 +96,9 @@ impl FluidProps {
             let c = &self.vapor_virial[(k - 1) * J..k * J];
             let (mut b, mut db) = (zero, zero);
             for j in (0..J).rev() {
-                b = b * y + c[j];
+                b = b.mul_add_c(y, c[j]);
                 if j > 0 {
-                    db = db * y + j as f64 * c[j];
+                    db = db.mul_add_c(y, j as f64 * c[j]);
                 }
             }
             z = (z + b) * r;
@@ -127,19 +127,19 @@ impl FluidProps {
             let c = &self.vapor_virial[(k - 1) * J..k * J];
             let (mut b, mut b1, mut b2) = (zero, zero, zero);
             for j in (0..J).rev() {
-                b = b * y + c[j];
+                b = b.mul_add_c(y, c[j]);
                 if j > 0 {
-                    b1 = b1 * y + j as f64 * c[j];
+                    b1 = b1.mul_add_c(y, j as f64 * c[j]);
                 }
                 if j > 1 {
-                    b2 = b2 * y + (j * (j - 1)) as f64 * c[j];
+                    b2 = b2.mul_add_c(y, (j * (j - 1)) as f64 * c[j]);
                 }
             }
             let kf = k as f64;
             z = (z + b) * r;
             kz = (kz + b * kf) * r;
             u = (u + b1 * (1.0 / kf)) * r;
-            b1_sum = b1_sum * r + b1;
+            b1_sum = b1_sum.mul_add(r, b1);
             u2 = (u2 + b2 * (1.0 / kf)) * r;
         }
         let rs = self.r_specific_j_per_kg_k();

@@ -286,6 +286,11 @@ impl Real for Counted {
         tally(1, |c| &mut c.opaque_test);
         CountedMask(f(self.0, o.0))
     }
+    fn mul_add(self, a: Counted, b: Counted) -> Counted {
+        tally(1, |c| &mut c.mul);
+        tally(1, |c| &mut c.add);
+        Counted(self.0.mul_add(a.0, b.0))
+    }
     fn select(m: CountedMask, a: Counted, b: Counted) -> Counted {
         tally(1, |c| &mut c.select);
         if m.0 {

@@ -47,8 +47,10 @@ pub fn h_vertical_wall<T: Real>(p: &ConvectionProps<T>, accel: T, dt_k: T, lengt
     let length = length_m.max_c(1.0e-3);
     let (ra, pr) = rayleigh(p, accel, dt_k, length);
     let pr_term = ((pr.ln().rsub(LN_CHURCHILL_CHU_PR)) * (9.0 / 16.0)).exp();
-    let ln_core = ra.ln() * (1.0 / 6.0) - (pr_term + 1.0).ln() * (8.0 / 27.0);
-    let nu = ln_core.exp() * 0.387 + 0.825;
+    let ln_core = (pr_term + 1.0)
+        .ln()
+        .mul_add(c(-8.0 / 27.0), ra.ln() * (1.0 / 6.0));
+    let nu = ln_core.exp().mul_add_c(c(0.387), 0.825);
     nu * nu * p.k / length
 }
 
@@ -108,10 +110,10 @@ pub fn stiff_blend<T: Real>(z: T) -> (T, T) {
     let mut s_lo = c::<T>(1.0);
     let mut v_lo = c::<T>(1.0);
     for _ in 1..STIFF_BLEND_ORDER {
-        s_lo = s_lo * v + 1.0;
+        s_lo = s_lo.mul_add_c(v, 1.0);
         v_lo *= v;
     }
-    let s_hi = s_lo + v_lo * v;
+    let s_hi = v_lo.mul_add(v, s_lo);
     // One divide for both weights (S₆ ≥ 1, so its reciprocal is as accurate as the quotients).
     let inv_s_hi = s_hi.rdiv(1.0);
     let a = s_lo * inv_s_hi * T::select(big, v, c(1.0));
