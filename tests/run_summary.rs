@@ -1,6 +1,7 @@
 //! The first line of `run`'s summary (found by a new-user test of the CLI): it said "1 threads",
 //! and after `--resume` its rate divided every instance-step, those loaded from the checkpoint
-//! too, by the wall time of the resumed part alone; and nothing said which CPU build ran.
+//! too, by the wall time of the resumed part alone; nothing said which CPU build ran, nor how
+//! many right-hand sides a second it evaluated.
 
 mod common;
 use common::campaign_path;
@@ -77,6 +78,16 @@ fn resumed_rate_counts_only_the_steps_integrated_now() {
         (rate * wall - now as f64).abs() <= 1e-9 * now as f64,
         "the rate must be the {now} steps integrated now over {wall} s: {json}"
     );
+    // So do the right-hand-side evaluations: half the instances came from the checkpoint.
+    let evals = json["rhs_evaluations"].as_u64().unwrap();
+    let resumed_evals = json["resumed_rhs_evaluations"].as_u64().unwrap();
+    assert_eq!(2 * resumed_evals, evals, "{json}");
+    let rhs_rate = json["rhs_evaluations_per_s"].as_f64().unwrap();
+    let evals_now = (evals - resumed_evals) as f64;
+    assert!(
+        (rhs_rate * wall - evals_now).abs() <= 1e-9 * evals_now,
+        "{json}"
+    );
     let line = first_line(&o);
     assert!(
         line.contains(&format!(
@@ -133,5 +144,66 @@ fn the_cpu_build_is_recorded_in_version_run_json_and_parquet() {
         stored.and_then(|e| e.value.as_deref()),
         Some(build.as_str())
     );
+    std::fs::remove_dir_all(root).ok();
+}
+
+/// Issue 18 asks for right-hand-side evaluations per second of a `run`, a rate that does not
+/// depend on the integrator; instance-steps/s alone hid it (an RK4 step is four evaluations, a
+/// Dormand–Prince step seven). Each instance's count is checked against the methods' cost, the
+/// run's total against the column, and the rate against total over wall time.
+#[test]
+fn rhs_evaluations_are_each_methods_cost_and_their_rate_is_reported() {
+    let root = scratch("rhs");
+    let read = |dir: &Path| -> (serde_json::Value, Vec<u64>, Vec<u64>) {
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join("run.json")).unwrap()).unwrap();
+        let inst = dir.join("instances.parquet");
+        let col = |n| cryoslosh::montecarlo::table::read_u64(&inst, n).unwrap();
+        (json, col("steps"), col("rhs_evaluations"))
+    };
+    // RK4 on a locked-up tank (one phase, no valve): the initial state's evaluation, then five
+    // on the first step (k1 is evaluated there) and four on each later one (k1 is the previous
+    // step's end-of-step evaluation): 4 n + 2 for n steps.
+    let out = root.join("rk4");
+    let o = run(&out, &["--instances", "6", "--threads", "2"], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (json, steps, evals) = read(&out);
+    for (n, e) in steps.iter().zip(&evals) {
+        assert_eq!(*n, 300, "600 s in 2 s steps");
+        assert_eq!(*e, 4 * n + 2);
+    }
+    let total: u64 = evals.iter().sum();
+    assert_eq!(json["rhs_evaluations"].as_u64(), Some(total), "{json}");
+    assert_eq!(json["resumed_rhs_evaluations"].as_u64(), Some(0));
+    let (rate, wall) = (
+        json["rhs_evaluations_per_s"].as_f64().unwrap(),
+        json["wall_s"].as_f64().unwrap(),
+    );
+    assert!(
+        (rate * wall - total as f64).abs() <= 1e-9 * total as f64,
+        "{json}"
+    );
+    assert!(
+        first_line(&o).contains(" right-hand sides/s) on cpu"),
+        "{}",
+        first_line(&o)
+    );
+    // Dormand–Prince: six stages a try (the seventh is the next try's first), the mid-step probe
+    // of an accepted step, so at least seven per accepted step.
+    let out = root.join("dopri5");
+    let o = run(
+        &out,
+        &["--instances", "6", "--set", "campaign.integrator=dopri5"],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (json, steps, evals) = read(&out);
+    for (n, e) in steps.iter().zip(&evals) {
+        assert!(
+            *e > 7 * n && *e < 7 * n + 6 * n + 50,
+            "{n} steps, {e} evaluations"
+        );
+    }
+    assert_eq!(json["rhs_evaluations"].as_u64(), Some(evals.iter().sum()));
     std::fs::remove_dir_all(root).ok();
 }

@@ -21,6 +21,8 @@ pub struct Counts {
     /// Instances committed, from the shard's first.
     pub completed: u64,
     pub steps: u64,
+    /// Right-hand-side evaluations of those instances (the `rhs_evaluations` column).
+    pub rhs_evaluations: u64,
     pub diverged: u64,
     pub rejected: u64,
     pub rejected_by: BTreeMap<String, u64>,
@@ -31,6 +33,7 @@ impl Counts {
     pub fn add(&mut self, block: &[InstanceRecord]) {
         for r in block {
             self.steps += r.summary.steps;
+            self.rhs_evaluations += r.summary.rhs_evaluations;
             self.diverged += u64::from(r.summary.diverged);
             self.rejected += u64::from(r.rejected);
             if let Some(key) = &r.rejected_by {
@@ -125,6 +128,7 @@ pub fn commit(
         "identity": identity,
         "completed": counts.completed,
         "steps": counts.steps,
+        "rhs_evaluations": counts.rhs_evaluations,
         "diverged": counts.diverged,
         "rejected": counts.rejected,
         "rejected_by": counts.rejected_by,
@@ -157,6 +161,7 @@ pub fn load(
     let counts = Counts {
         completed: u("completed"),
         steps: u("steps"),
+        rhs_evaluations: u("rhs_evaluations"),
         diverged: u("diverged"),
         rejected: u("rejected"),
         rejected_by: p["rejected_by"]

@@ -240,6 +240,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
             .iter()
             .map(|s| s.run["resumed_instance_steps"].as_u64().unwrap_or(0))
             .sum(),
+        rhs_evaluations: table::read_u64(&inst_path, "rhs_evaluations")?.iter().sum(),
+        resumed_rhs_evaluations: shards
+            .iter()
+            .map(|s| s.run["resumed_rhs_evaluations"].as_u64().unwrap_or(0))
+            .sum(),
         wall_s: shards
             .iter()
             .map(|s| s.run["wall_s"].as_f64().unwrap_or(0.0))

@@ -104,6 +104,10 @@ pub struct RunReport {
     /// Of `instance_steps`, those a resumed run (`--resume`) loaded from the interrupted run's
     /// committed blocks instead of integrating them (0 otherwise): `wall_s` does not cover them.
     pub resumed_steps: u64,
+    /// Right-hand-side evaluations of every instance (the `rhs_evaluations` column's sum).
+    pub rhs_evaluations: u64,
+    /// Of `rhs_evaluations`, those of the instances a resumed run loaded (as `resumed_steps`).
+    pub resumed_rhs_evaluations: u64,
     /// Wall time of this invocation, s (a resumed run: of the part it integrated).
     pub wall_s: f64,
     pub backend: String,
@@ -143,6 +147,15 @@ impl RunReport {
     /// over its wall time (a resumed run's steps loaded from its checkpoint took none of it).
     pub fn steps_per_s(&self) -> f64 {
         self.steps_integrated() as f64 / self.wall_s.max(1e-9)
+    }
+
+    /// Right-hand-side evaluations per second of the work this invocation did (as
+    /// [`Self::steps_per_s`]): the engine's throughput in the unit that does not depend on the
+    /// integrator (an RK4 step costs four, a Dormand–Prince step seven).
+    pub fn rhs_evaluations_per_s(&self) -> f64 {
+        self.rhs_evaluations
+            .saturating_sub(self.resumed_rhs_evaluations) as f64
+            / self.wall_s.max(1e-9)
     }
 
     /// Why the run's statistics cannot be signed (too many rejected or diverged instances), or
@@ -445,7 +458,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         }
         counts = done;
     }
-    let resumed_steps = counts.steps;
+    let (resumed_steps, resumed_rhs_evaluations) = (counts.steps, counts.rhs_evaluations);
     let mut stop_at = match &stopper {
         Some(s) if s.last.as_ref().is_some_and(|p| p.met) => at,
         _ => range.end,
@@ -507,6 +520,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
     let wall_s = start.elapsed().as_secs_f64();
     let checkpoint::Counts {
         steps,
+        rhs_evaluations,
         diverged,
         rejected,
         rejected_by,
@@ -556,6 +570,8 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         rejected,
         instance_steps: steps,
         resumed_steps,
+        rhs_evaluations,
+        resumed_rhs_evaluations,
         wall_s,
         backend: engine.name().into(),
         device: engine.device(),
@@ -633,6 +649,9 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "resumed_instance_steps": r.resumed_steps,
         "wall_s": r.wall_s,
         "instance_steps_per_s": r.steps_per_s(),
+        "rhs_evaluations": r.rhs_evaluations,
+        "resumed_rhs_evaluations": r.resumed_rhs_evaluations,
+        "rhs_evaluations_per_s": r.rhs_evaluations_per_s(),
         "backend": r.backend,
         "device": r.device,
         "threads": r.threads,

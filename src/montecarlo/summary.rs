@@ -95,13 +95,15 @@ pub fn summary_text(r: &RunReport) -> String {
         )
     };
     let mut out = format!(
-        "{} instance{} ({} diverged, {} rejected), {steps} {:.2} s = {:.3e} instance-steps/s on {}\n",
+        "{} instance{} ({} diverged, {} rejected), {steps} {:.2} s = {:.3e} instance-steps/s \
+         ({:.3e} right-hand sides/s) on {}\n",
         r.instances,
         if r.instances == 1 { "" } else { "s" },
         r.diverged,
         r.rejected,
         r.wall_s,
         r.steps_per_s(),
+        r.rhs_evaluations_per_s(),
         r.device
     );
     if !r.dispersed {

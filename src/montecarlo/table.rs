@@ -93,10 +93,13 @@ pub fn qoi_names(phases: &[String]) -> Vec<String> {
 /// A count column: its name and how to read it from a [`Summary`].
 pub type Count = (&'static str, fn(&Summary) -> u64);
 
-/// Counts per instance after `instance`: accepted steps, relief-valve openings and
+/// Counts per instance after `instance`: accepted steps, the right-hand-side evaluations they
+/// cost (stages, the end-of-step evaluation, probes and event location: what the instance alone
+/// costs, whatever lane group it ran in), relief-valve openings and
 /// thermodynamic-vent-system starts.
-pub const COUNTS: [Count; 3] = [
+pub const COUNTS: [Count; 4] = [
     ("steps", |q| q.steps),
+    ("rhs_evaluations", |q| q.rhs_evaluations),
     ("relief_cycles", |q| q.relief_cycles),
     ("tvs_cycles", |q| q.tvs_cycles),
 ];

@@ -298,7 +298,10 @@ impl LaneRun<'_> {
             while self.next_sample < mission - 1.0e-9 * interval {
                 let th = ((self.next_sample - start - t0) / h).clamp(0.0, theta_end);
                 let s = dense.at(th);
-                let (ev, d) = self.eval_at(&s, t0 + th * h, h);
+                // An output sample is the history's cost, not the instance's: not counted in
+                // `evaluations`, so that a replay with a history counts what the run did.
+                let d = self.drive(t0 + th * h);
+                let ev = model::evaluate(Group::one(p), &s, &d, h);
                 hist.push(
                     row(p, start + t0 + th * h, &s, &ev, &d),
                     &self.phase().name,
