@@ -139,9 +139,16 @@ impl LaneRun<'_> {
         }
     }
 
-    /// The evaluation of state `s` at phase time `t` (scalar, this lane).
+    /// The evaluation of state `s` at phase time `t` (scalar, this lane), counted in
+    /// `evaluations`: work the instance's integration does.
     fn eval_at(&mut self, s: &State, t: f64, h: f64) -> (Evaluation, Drive) {
         self.evaluations += 1;
+        self.eval_uncounted(s, t, h)
+    }
+
+    /// [`Self::eval_at`] without the count: a time history's output sample, the history's cost
+    /// rather than the instance's, so that a replay with a history counts what the run did.
+    fn eval_uncounted(&self, s: &State, t: f64, h: f64) -> (Evaluation, Drive) {
         let d = self.drive(t);
         (model::evaluate(Group::one(self.params), s, &d, h), d)
     }
@@ -298,10 +305,7 @@ impl LaneRun<'_> {
             while self.next_sample < mission - 1.0e-9 * interval {
                 let th = ((self.next_sample - start - t0) / h).clamp(0.0, theta_end);
                 let s = dense.at(th);
-                // An output sample is the history's cost, not the instance's: not counted in
-                // `evaluations`, so that a replay with a history counts what the run did.
-                let d = self.drive(t0 + th * h);
-                let ev = model::evaluate(Group::one(p), &s, &d, h);
+                let (ev, d) = self.eval_uncounted(&s, t0 + th * h, h);
                 hist.push(
                     row(p, start + t0 + th * h, &s, &ev, &d),
                     &self.phase().name,
