@@ -200,7 +200,6 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (r.started == 0u) {
         let ph0 = phases[base];
         let ev0 = start_instance(&r, &hi, &lo, base, ph0.first_step_s);
-        r.evaluations = 1u;
         r.h_s = ph0.first_step_s;
         r.evap_last = ev0.evap;
         r.omega_last = dp_omega(ev0.x);

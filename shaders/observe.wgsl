@@ -355,9 +355,11 @@ fn start_instance(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<fu
     TVS_ON = false;
     var d0: Drive;
     var ev0: Eval;
+    (*r).evaluations = 0u;
     for (var tries = 0u; tries < 2u; tries++) {
         d0 = phase_drive(phases[base], 0.0, false);
         ev0 = evaluate(hi, d0, dt);
+        (*r).evaluations += 1u;
         if (tries == 1u || !switch_tvs(r, phases[base], ev0.x.p_u)) {
             break;
         }

@@ -105,6 +105,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             d = phase_drive(ph, at, valve);
             ev = evaluate(&y, d, dt);
+            r.evaluations += 1u;
             switch stage {
                 case 0u: {
                     k1 = ev.ds;

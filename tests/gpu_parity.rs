@@ -88,6 +88,8 @@ fn parity_on_every_campaign(integrator: &str, most: u64) {
             if integrator == "rk4" {
                 reconcile_valve_steps(&plan, &mut a, &b);
             }
+            let level_name = format!("{level}/{integrator}");
+            costs_agree(name, &level_name, integrator, &a, &b);
             let budget = |q: &str| {
                 // The shaken LN2 tank's net boil-off, −0.07 to −13 g, is what condensation and
                 // evaporation at the shaken interface leave of each other; the f32 kernel carries
@@ -99,10 +101,58 @@ fn parity_on_every_campaign(integrator: &str, most: u64) {
                     TOL
                 }
             };
-            let level = format!("{level}/{integrator}");
-            compare_where(name, &level, &a, &b, |_, _| true, budget);
+            compare_where(name, &level_name, &a, &b, |_, _| true, budget);
         }
     }
+}
+
+/// The GPU counts its right-hand-side evaluations as the CPU does (`rhs_evaluations`; the RK4
+/// kernel counted none until 2026-12-06, so every GPU run reported 0 right-hand sides/s). Under
+/// fixed RK4 steps an instance whose steps, valve and TVS switches and depletion agree costs the
+/// same evaluations on both, but for one: a bulk that merges is evaluated again on the CPU (the
+/// kernel merges before its end-of-step evaluation). Under Dormand–Prince the f32 kernel takes
+/// its own steps: at least its six new stages per accepted step.
+fn costs_agree(
+    name: &str,
+    level: &str,
+    integrator: &str,
+    cpu: &[InstanceRecord],
+    gpu: &[InstanceRecord],
+) {
+    let mut same_path = 0;
+    let mut integrated = 0;
+    for (c, g) in cpu.iter().zip(gpu) {
+        let (c, g) = (&c.summary, &g.summary);
+        if c.diverged || g.diverged || g.steps == 0 {
+            continue;
+        }
+        integrated += 1;
+        let per_step = if integrator == "dopri5" { 6 } else { 4 };
+        assert!(
+            g.rhs_evaluations > per_step * g.steps,
+            "{name}/{level}: {} GPU evaluations for {} steps",
+            g.rhs_evaluations,
+            g.steps
+        );
+        if integrator == "dopri5" {
+            continue;
+        }
+        let key = |q: &Summary| (q.steps, q.relief_cycles, q.tvs_cycles, q.depleted);
+        if key(c) == key(g) {
+            same_path += 1;
+            let extra = c.rhs_evaluations.checked_sub(g.rhs_evaluations);
+            assert!(
+                matches!(extra, Some(0 | 1)),
+                "{name}/{level}: CPU {} against GPU {} evaluations",
+                c.rhs_evaluations,
+                g.rhs_evaluations
+            );
+        }
+    }
+    assert!(
+        integrator == "dopri5" || 10 * same_path >= 9 * integrated,
+        "{name}/{level}: only {same_path} of {integrated} instances took the same path"
+    );
 }
 
 /// Relative shift of the relief valve's thresholds within which a fixed-step switch may move:

@@ -207,3 +207,141 @@ fn rhs_evaluations_are_each_methods_cost_and_their_rate_is_reported() {
     assert_eq!(json["rhs_evaluations"].as_u64(), Some(evals.iter().sum()));
     std::fs::remove_dir_all(root).ok();
 }
+
+/// Regression (found by a new-user test of the cost outputs): a merge's `run.json` summed the
+/// shards' wall times and threads and dropped each shard's own, though the README said it kept
+/// them, so its rate read as the job's. Now it lists every shard's record (`shards`) and the
+/// summary line says its time is the shards' summed and its rate per shard.
+#[test]
+fn a_merge_keeps_each_shards_own_cost() {
+    let root = scratch("merge");
+    let mut dirs = Vec::new();
+    let mut shard_walls = Vec::new();
+    for i in 0..2 {
+        let out = root.join(format!("s{i}"));
+        let shard = format!("{i}/2");
+        let o = run(
+            &out,
+            &["--instances", "6", "--threads", "1", "--shard", &shard],
+            None,
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+        shard_walls.push(json["wall_s"].as_f64().unwrap());
+        dirs.push(out);
+    }
+    let merged = root.join("merged");
+    let o = common::cryoslosh_at(
+        &[
+            "merge",
+            dirs[0].to_str().unwrap(),
+            dirs[1].to_str().unwrap(),
+            "--out",
+            merged.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(merged.join("run.json")).unwrap()).unwrap();
+    let shards = json["shards"].as_array().expect("a merge lists its shards");
+    assert_eq!(shards.len(), 2, "{json}");
+    for (i, (s, wall)) in shards.iter().zip(&shard_walls).enumerate() {
+        assert_eq!(s["shard"], format!("{i}/2"));
+        assert_eq!(s["threads"], 1);
+        assert_eq!(s["device"], "cpu: 1 thread");
+        assert_eq!(s["wall_s"].as_f64(), Some(*wall));
+        assert!(s["rhs_evaluations_per_s"].as_f64().unwrap() > 0.0, "{s}");
+    }
+    let evals: u64 = shards
+        .iter()
+        .map(|s| s["rhs_evaluations"].as_u64().unwrap())
+        .sum();
+    assert_eq!(json["rhs_evaluations"].as_u64(), Some(evals));
+    let summed: f64 = shard_walls.iter().sum();
+    assert!((json["wall_s"].as_f64().unwrap() - summed).abs() <= 1e-12 * summed);
+    let line = first_line(&o);
+    assert!(
+        line.contains("summed over 2 shards' wall times")
+            && line.contains("instance-steps/s per shard"),
+        "{line}"
+    );
+    std::fs::remove_dir_all(root).ok();
+}
+
+/// Regression (same test): a run with `[[variants]]` reported no cost at its top level and no
+/// rates on its summary lines; and a resumed run that found every instance committed stored a
+/// rate of 0 (it integrated nothing, which is not a speed).
+#[test]
+fn variants_report_their_cost_and_a_run_with_nothing_left_has_no_rate() {
+    let root = scratch("variants");
+    let out = root.join("trade");
+    let camp = campaign_path("tank_design_trade");
+    let o = common::cryoslosh_at(
+        &[
+            "run",
+            camp.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--instances",
+            "3",
+            "--threads",
+            "1",
+            "--set",
+            "phases.0.duration_s=60",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let variant_lines: Vec<&str> = text.lines().filter(|l| l.starts_with("variant ")).collect();
+    assert!(variant_lines.len() >= 2, "{text}");
+    for l in &variant_lines {
+        assert!(l.contains(" right-hand sides/s) on cpu"), "{l}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("run.json")).unwrap()).unwrap();
+    let variants = json["variants"].as_array().unwrap();
+    let mut evals = 0;
+    for v in variants {
+        let dir = out.join(v["dir"].as_str().unwrap());
+        let own: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join("run.json")).unwrap()).unwrap();
+        for k in [
+            "instance_steps",
+            "rhs_evaluations",
+            "wall_s",
+            "rhs_evaluations_per_s",
+        ] {
+            assert_eq!(v[k], own[k], "{k}: {v} against {own}");
+        }
+        evals += v["rhs_evaluations"].as_u64().unwrap();
+    }
+    assert_eq!(json["rhs_evaluations"].as_u64(), Some(evals), "{json}");
+    assert!(json["rhs_evaluations_per_s"].as_f64().unwrap() > 0.0);
+
+    // Killed after its instances were committed, resumed: nothing is integrated again.
+    let done = root.join("done");
+    let args = ["--instances", "4", "--threads", "1"];
+    let o = run(&done, &args, Some("after-instances"));
+    assert!(!o.status.success(), "the failpoint must stop the process");
+    let o = run(&done, &[&args[..], &["--resume"]].concat(), None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(done.join("run.json")).unwrap()).unwrap();
+    assert_eq!(
+        json["instance_steps"], json["resumed_instance_steps"],
+        "{json}"
+    );
+    assert!(json["instance_steps_per_s"].is_null(), "{json}");
+    assert!(json["rhs_evaluations_per_s"].is_null(), "{json}");
+    assert!(
+        first_line(&o).contains("(none integrated now)"),
+        "{}",
+        first_line(&o)
+    );
+    std::fs::remove_dir_all(root).ok();
+}

@@ -276,10 +276,35 @@ pub fn merge(dirs: &[PathBuf], out: &Path, force: bool) -> Result<RunReport, Run
         until: None,
         histories: Vec::new(),
         statistics: stats,
+        shards: shards.iter().map(shard_record).collect(),
     };
     write_run_json(&dir, &report, total)?;
     staging.publish()?;
     Ok(report)
+}
+
+/// What a merged `run.json` keeps of one shard's own: where and how it ran and what it cost
+/// (the merge's own wall time and rates are over the shards' summed, which says nothing of
+/// whether they ran side by side).
+fn shard_record(s: &ShardDir) -> serde_json::Value {
+    const KEYS: [&str; 11] = [
+        "shard",
+        "device",
+        "build",
+        "threads",
+        "wall_s",
+        "instance_steps",
+        "resumed_instance_steps",
+        "instance_steps_per_s",
+        "rhs_evaluations",
+        "resumed_rhs_evaluations",
+        "rhs_evaluations_per_s",
+    ];
+    let mut m = serde_json::Map::new();
+    for k in KEYS {
+        m.insert(k.into(), s.run.get(k).cloned().unwrap_or_default());
+    }
+    m.into()
 }
 
 /// `merge … --out` may not be (or contain, or lie inside) one of its shard directories.

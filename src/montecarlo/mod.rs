@@ -134,6 +134,9 @@ pub struct RunReport {
     /// What `--histories` wrote (or why not), per instance.
     pub histories: Vec<String>,
     pub statistics: Vec<Row>,
+    /// A merge: each shard's own record from its `run.json` (shard, device, build, threads,
+    /// wall time and [`Self::cost_json`]), in shard order; empty for a run.
+    pub shards: Vec<serde_json::Value>,
 }
 
 impl RunReport {
@@ -144,18 +147,76 @@ impl RunReport {
     }
 
     /// Instance-steps per second of the work this invocation did: [`Self::steps_integrated`]
-    /// over its wall time (a resumed run's steps loaded from its checkpoint took none of it).
-    pub fn steps_per_s(&self) -> f64 {
-        self.steps_integrated() as f64 / self.wall_s.max(1e-9)
+    /// over its wall time (a resumed run's steps loaded from its checkpoint took none of it);
+    /// `None` when it integrated nothing (every instance came from the checkpoint). A merge:
+    /// over the shards' wall times summed, the rate of one shard's worth of hardware.
+    pub fn steps_per_s(&self) -> Option<f64> {
+        let n = self.steps_integrated();
+        (n > 0).then(|| n as f64 / self.wall_s.max(1e-9))
     }
 
     /// Right-hand-side evaluations per second of the work this invocation did (as
     /// [`Self::steps_per_s`]): the engine's throughput in the unit that does not depend on the
     /// integrator (an RK4 step costs four, a Dormand–Prince step seven).
-    pub fn rhs_evaluations_per_s(&self) -> f64 {
-        self.rhs_evaluations
-            .saturating_sub(self.resumed_rhs_evaluations) as f64
-            / self.wall_s.max(1e-9)
+    pub fn rhs_evaluations_per_s(&self) -> Option<f64> {
+        let n = self
+            .rhs_evaluations
+            .saturating_sub(self.resumed_rhs_evaluations);
+        (self.steps_integrated() > 0).then(|| n as f64 / self.wall_s.max(1e-9))
+    }
+
+    /// The cost keys of `run.json` (a run's, each variant's and each merged shard's):
+    /// instance_steps, resumed_instance_steps, wall_s, instance_steps_per_s, rhs_evaluations,
+    /// resumed_rhs_evaluations, rhs_evaluations_per_s (the rates null when nothing was
+    /// integrated now).
+    pub fn cost_json(&self) -> serde_json::Map<String, serde_json::Value> {
+        let serde_json::Value::Object(m) = serde_json::json!({
+            "instance_steps": self.instance_steps,
+            "resumed_instance_steps": self.resumed_steps,
+            "wall_s": self.wall_s,
+            "instance_steps_per_s": self.steps_per_s(),
+            "rhs_evaluations": self.rhs_evaluations,
+            "resumed_rhs_evaluations": self.resumed_rhs_evaluations,
+            "rhs_evaluations_per_s": self.rhs_evaluations_per_s(),
+        }) else {
+            unreachable!("json! of an object literal is an object")
+        };
+        m
+    }
+
+    /// The summary line's cost: "N instance-steps [(resumed …)] in W s = R instance-steps/s
+    /// (E right-hand sides/s)", or that nothing was integrated now; a merge says its time is
+    /// the shards' summed.
+    pub fn cost_text(&self) -> String {
+        let steps = if self.resumed_steps == 0 {
+            format!("{} instance-steps", self.instance_steps)
+        } else {
+            format!(
+                "{} instance-steps ({} from the checkpoint, {} integrated now)",
+                self.instance_steps,
+                self.resumed_steps,
+                self.steps_integrated()
+            )
+        };
+        let (time, per) = if self.shards.is_empty() {
+            (format!("{:.2} s", self.wall_s), "")
+        } else {
+            (
+                format!(
+                    "{:.2} s summed over {} shards' wall times",
+                    self.wall_s,
+                    self.shards.len()
+                ),
+                " per shard",
+            )
+        };
+        match (self.steps_per_s(), self.rhs_evaluations_per_s()) {
+            (Some(steps_s), Some(rhs_s)) => format!(
+                "{steps} in {time} = {steps_s:.3e} instance-steps/s{per} \
+                 ({rhs_s:.3e} right-hand sides/s{per})"
+            ),
+            _ => format!("{steps} in {time} (none integrated now)"),
+        }
     }
 
     /// Why the run's statistics cannot be signed (too many rejected or diverged instances), or
@@ -591,6 +652,7 @@ pub fn run(c: &Campaign, backend: &Backend, o: &RunOptions) -> Result<RunReport,
         until: stopper.as_ref().map(|s| (s.describe(), s.to_json())),
         histories: history_notes,
         statistics: rows,
+        shards: Vec::new(),
     };
     write_run_json(&dir, &report, total)?;
     staging.publish()?;
@@ -645,13 +707,6 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "campaign_instances": total,
         "diverged": r.diverged,
         "rejected": r.rejected,
-        "instance_steps": r.instance_steps,
-        "resumed_instance_steps": r.resumed_steps,
-        "wall_s": r.wall_s,
-        "instance_steps_per_s": r.steps_per_s(),
-        "rhs_evaluations": r.rhs_evaluations,
-        "resumed_rhs_evaluations": r.resumed_rhs_evaluations,
-        "rhs_evaluations_per_s": r.rhs_evaluations_per_s(),
         "backend": r.backend,
         "device": r.device,
         "threads": r.threads,
@@ -666,6 +721,13 @@ fn write_run_json(dir: &Path, r: &RunReport, total: u64) -> Result<(), RunError>
         "version": crate::VERSION,
         "build": r.build,
     });
+    let mut json = json;
+    if let serde_json::Value::Object(m) = &mut json {
+        m.extend(r.cost_json());
+        if !r.shards.is_empty() {
+            m.insert("shards".into(), r.shards.clone().into());
+        }
+    }
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
     write_atomic(&dir.join("run.json"), text.as_bytes())?;
     Ok(())

@@ -84,26 +84,13 @@ fn probability(r: &Row) -> String {
 pub fn summary_text(r: &RunReport) -> String {
     let s = &r.statistics;
     // The rate is of the work done now: a resumed run's steps from its checkpoint took no time.
-    let steps = if r.resumed_steps == 0 {
-        format!("{} instance-steps in", r.instance_steps)
-    } else {
-        format!(
-            "{} instance-steps ({} from the checkpoint, {} integrated now) in",
-            r.instance_steps,
-            r.resumed_steps,
-            r.steps_integrated()
-        )
-    };
     let mut out = format!(
-        "{} instance{} ({} diverged, {} rejected), {steps} {:.2} s = {:.3e} instance-steps/s \
-         ({:.3e} right-hand sides/s) on {}\n",
+        "{} instance{} ({} diverged, {} rejected), {} on {}\n",
         r.instances,
         if r.instances == 1 { "" } else { "s" },
         r.diverged,
         r.rejected,
-        r.wall_s,
-        r.steps_per_s(),
-        r.rhs_evaluations_per_s(),
+        r.cost_text(),
         r.device
     );
     if !r.dispersed {

@@ -97,16 +97,18 @@ fn write_run_json(dir: &Path, r: &VariantsReport, seed: u64, shard: &str) -> Res
         .iter()
         .zip(&r.reports)
         .map(|(n, v)| {
-            serde_json::json!({
+            let mut m = serde_json::json!({
                 "name": n,
                 "dir": format!("variants/{n}"),
                 "instances": v.instances,
                 "diverged": v.diverged,
                 "rejected": v.rejected,
-                "instance_steps": v.instance_steps,
-                "wall_s": v.wall_s,
                 "untrusted": v.untrusted(),
-            })
+            });
+            if let serde_json::Value::Object(m) = &mut m {
+                m.extend(v.cost_json());
+            }
+            m
         })
         .collect();
     let first = &r.reports[0];
@@ -123,8 +125,21 @@ fn write_run_json(dir: &Path, r: &VariantsReport, seed: u64, shard: &str) -> Res
         "integrator": first.integrator,
         "untrusted": r.untrusted(),
         "version": crate::VERSION,
-        "build": crate::lanes::isa::build_description(),
+        "build": first.build,
     });
+    // The whole run's cost: every variant's work over their wall times summed (the variants
+    // run one after another).
+    let mut all = first.clone();
+    let sum = |f: fn(&RunReport) -> u64| r.reports.iter().map(f).sum::<u64>();
+    all.instance_steps = sum(|v| v.instance_steps);
+    all.resumed_steps = sum(|v| v.resumed_steps);
+    all.rhs_evaluations = sum(|v| v.rhs_evaluations);
+    all.resumed_rhs_evaluations = sum(|v| v.resumed_rhs_evaluations);
+    all.wall_s = r.reports.iter().map(|v| v.wall_s).sum();
+    let mut json = json;
+    if let serde_json::Value::Object(m) = &mut json {
+        m.extend(all.cost_json());
+    }
     let text = serde_json::to_string_pretty(&json).map_err(|e| RunError::Input(e.to_string()))?;
     write_atomic(&dir.join("run.json"), text.as_bytes())?;
     Ok(())
@@ -284,8 +299,12 @@ pub fn summary_text(r: &VariantsReport) -> String {
     let mut out = String::new();
     for (n, v) in r.names.iter().zip(&r.reports) {
         out += &format!(
-            "variant {n}: {} instances ({} diverged, {} rejected), {} instance-steps in {:.2} s on {}\n",
-            v.instances, v.diverged, v.rejected, v.instance_steps, v.wall_s, v.device
+            "variant {n}: {} instances ({} diverged, {} rejected), {} on {}\n",
+            v.instances,
+            v.diverged,
+            v.rejected,
+            v.cost_text(),
+            v.device
         );
     }
     let stats: Vec<Vec<super::statistics::Row>> =

@@ -30,8 +30,11 @@ pub struct RunInfo {
     pub integrator: String,
     pub fidelity: String,
     pub shard: String,
-    /// Wall time of the run, s (`run.json`; absent for a directory without it).
+    /// Wall time of the run, s (`run.json`; absent for a directory without it; a merge: the
+    /// shards' summed).
     pub wall_s: Option<f64>,
+    /// Shards a merge joined (0 for a run).
+    pub merged_shards: usize,
     /// Dispersed-input columns of `instances.parquet`, with their campaign key paths.
     pub inputs: Vec<(String, String)>,
     /// Every column of `instances.parquet` with its kind (`f64`, `u64`, `bool`).
@@ -121,6 +124,7 @@ pub fn run_info(dir: &Path) -> Result<RunInfo, ReportError> {
         fidelity: get("cryoslosh.fidelity"),
         shard: text("shard", get("cryoslosh.shard")),
         wall_s: json["wall_s"].as_f64(),
+        merged_shards: json["shards"].as_array().map_or(0, Vec::len),
         inputs,
         columns,
         run,

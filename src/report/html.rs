@@ -96,7 +96,11 @@ pub(crate) fn render(p: &Page) -> String {
         ("cryoslosh version", info.version.clone()),
         (
             "wall time",
-            info.wall_s.map_or("–".into(), |w| format!("{w:.2} s")),
+            info.wall_s
+                .map_or("–".into(), |w| match info.merged_shards {
+                    0 => format!("{w:.2} s"),
+                    n => format!("{w:.2} s, the {n} shards' summed"),
+                }),
         ),
     ];
     h.push_str("<table class=\"kv\">\n");

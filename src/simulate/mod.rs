@@ -389,7 +389,8 @@ impl<'a> LaneRun<'a> {
             need_k1: false,
             landing: adaptive::Landing::Free,
             rejected: 0,
-            evaluations: 1,
+            // The initial evaluation, and the second with the TVS on when it starts on.
+            evaluations: 1 + u64::from(tvs0),
             m_liquid0: ev0.derived.m_liquid_kg,
             merged: false,
             slosh_out_s: 0.0,
