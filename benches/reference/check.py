@@ -21,8 +21,11 @@ in the same order, but rounds the multiply and the add of each of cryoslosh's fu
 multiply-adds separately, and XLA's own exp/log do not round like glibc's. Such an element also passes when its difference is within the
 rate's measured rounding sensitivity: `sens` = the largest change of the numpy rate when every
 state slot is perturbed by ±SENS_ULPS units in the last place (SENS_DRAWS random draws), times
-SENS_FACTOR. The report counts the elements that needed the allowance. A port error (a wrong
-term, a wrong branch) moves a rate by far more than its rounding sensitivity and still fails.
+SENS_FACTOR, and never beyond ALLOWANCE_CAP relative (the sensitivity comes from the port
+under test, so it must not be able to admit any error at all: a 1e-5 corruption of the LCH4
+coast's dU_u/dt passed until 2026-12-06; the largest allowed element of any shipped campaign is
+3e-7). The report counts the elements that needed the allowance. A port error (a wrong term, a
+wrong branch) moves a rate by far more than its rounding sensitivity and still fails.
 
 The check fails (exit 1) when any element fails or any rate is NaN where cryoslosh's is not.
 """
@@ -37,13 +40,17 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import lumped_rhs as L  # noqa: E402
 
 FLOOR_SHARE = 1e-6
+ALLOWANCE_CAP = 1e-6
 SENS_ULPS = 4.0
 SENS_DRAWS = 4
 SENS_FACTOR = 10.0
 
 
 def errors(mine, ref):
-    scale = np.max(np.abs(ref), axis=0)
+    # nanmax: a rate that is NaN in some row (matched by the port) must not void the floor of
+    # its whole column.
+    with np.errstate(all="ignore"):
+        scale = np.nan_to_num(np.nanmax(np.abs(ref), axis=0), nan=0.0)
     floor = np.maximum(FLOOR_SHARE * scale, 1e-300)
     err = np.abs(mine - ref) / np.maximum(np.abs(ref), floor)
     err = np.where(np.isnan(ref) & np.isnan(mine), 0.0, err)
@@ -54,7 +61,7 @@ def errors(mine, ref):
 def verdict(mine, ref, sens, tol):
     """(passes, relative errors with the allowed elements zeroed, allowed mask)."""
     err = errors(mine, ref)
-    allowed = (err > tol) & (np.abs(mine - ref) <= sens)
+    allowed = (err > tol) & (err <= ALLOWANCE_CAP) & (np.abs(mine - ref) <= sens)
     strict = np.where(allowed, 0.0, err)
     worst = float(np.max(strict))
     return worst <= tol and np.isfinite(worst), strict, allowed
@@ -121,7 +128,7 @@ def main():
                 # A NaN is the worst error there is (argmax and argsort would put it last).
                 err = np.nan_to_num(errors(arr, ref), nan=np.inf)
                 within = np.abs(arr - ref) <= sens
-                allowed = (err > a.tol) & within
+                allowed = (err > a.tol) & (err <= ALLOWANCE_CAP) & within
                 err_strict = np.where(allowed, 0.0, err)
                 worst = np.max(err_strict, axis=0)
                 row, comp = np.unravel_index(np.argmax(err_strict), err.shape)

@@ -108,7 +108,9 @@ pub struct RunReport {
     pub rhs_evaluations: u64,
     /// Of `rhs_evaluations`, those of the instances a resumed run loaded (as `resumed_steps`).
     pub resumed_rhs_evaluations: u64,
-    /// Wall time of this invocation, s (a resumed run: of the part it integrated).
+    /// Wall time of this invocation's integration, s: sampling, integrating and committing the
+    /// instances' blocks (not the loading before it nor the statistics pass after it); a
+    /// resumed run: of the part it integrated; a merge: the shards' summed.
     pub wall_s: f64,
     pub backend: String,
     pub device: String,
