@@ -345,3 +345,47 @@ fn variants_report_their_cost_and_a_run_with_nothing_left_has_no_rate() {
     );
     std::fs::remove_dir_all(root).ok();
 }
+
+/// Regression (same test): a thermodynamic vent system that starts on costs the start a second
+/// evaluation (the state evaluated again with the TVS running), which the CPU did not count (the
+/// GPU kernel evaluates the same two). Ten RK4 steps with the TVS on throughout: 4 n + 3.
+#[test]
+fn a_tvs_that_starts_on_counts_its_second_initial_evaluation() {
+    let root = scratch("tvs_start");
+    let out = root.join("r");
+    let camp = campaign_path("lh2_tvs_coast");
+    let o = common::cryoslosh_at(
+        &[
+            "run",
+            camp.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--instances",
+            "4",
+            "--threads",
+            "1",
+            "--set",
+            "campaign.integrator=rk4",
+            "--set",
+            "ullage.pressure_pa=135000",
+            "--set",
+            "campaign.dt_s=20",
+            "--set",
+            "campaign.allow_coarse_step=true",
+            "--set",
+            "phases.0.duration_s=200",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let inst = out.join("instances.parquet");
+    let col = |n| cryoslosh::montecarlo::table::read_u64(&inst, n).unwrap();
+    let (steps, evals, tvs) = (col("steps"), col("rhs_evaluations"), col("tvs_cycles"));
+    for ((n, e), t) in steps.iter().zip(&evals).zip(&tvs) {
+        assert_eq!((*n, *t), (10, 1), "ten steps, the TVS on from the start");
+        assert_eq!(*e, 4 * n + 3);
+    }
+    std::fs::remove_dir_all(root).ok();
+}
