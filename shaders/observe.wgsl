@@ -355,15 +355,16 @@ fn start_instance(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<fu
     TVS_ON = false;
     var d0: Drive;
     var ev0: Eval;
-    (*r).evaluations = 0u;
-    for (var tries = 0u; tries < 2u; tries++) {
+    var tries = 0u;
+    for (; tries < 2u; tries++) {
         d0 = phase_drive(phases[base], 0.0, false);
         ev0 = evaluate(hi, d0, dt);
-        (*r).evaluations += 1u;
         if (tries == 1u || !switch_tvs(r, phases[base], ev0.x.p_u)) {
             break;
         }
     }
+    // The right-hand-side evaluations the start cost: one, two when a TVS starts on.
+    (*r).evaluations = tries + 1u;
     (*r).m_vapor0_kg = ev0.x.m_v;
     (*r).m_liquid0_kg = ev0.x.m_l;
     save_last(r, ev0.x);

@@ -41,6 +41,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var k3: St;
     var k4: St;
     var budget = control.step_budget;
+    // Right-hand-side evaluations of this dispatch's steps (start_instance counts its own),
+    // added to the record once at the end.
+    var evals = 0u;
     loop {
         if (ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u) {
             break;
@@ -105,7 +108,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             d = phase_drive(ph, at, valve);
             ev = evaluate(&y, d, dt);
-            r.evaluations += 1u;
+            evals += 1u;
             switch stage {
                 case 0u: {
                     k1 = ev.ds;
@@ -155,6 +158,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     r.valve_open = u32(valve);
     r.tvs_on = u32(TVS_ON);
     r.have_k1 = u32(have_k1);
+    r.evaluations += evals;
     r.done = u32(ip >= P.n_phases || r.diverged != 0u || r.depleted != 0u);
     for (var j = 0u; j < NS; j++) {
         r.s_hi[j] = hi[j];
