@@ -14,7 +14,14 @@ fn scratch(name: &str) -> PathBuf {
 
 /// `run` of a short MHTB campaign into `out` on the CPU with `extra` options.
 fn run(out: &Path, extra: &[&str], failpoint: Option<&str>) -> Output {
-    let camp = campaign_path("mhtb_selfpress");
+    let mut args = vec!["--set", "phases.0.duration_s=600"];
+    args.extend_from_slice(extra);
+    run_campaign("mhtb_selfpress", out, &args, failpoint)
+}
+
+/// `run` of the shipped campaign `name` into `out` on the CPU with `extra` options.
+fn run_campaign(name: &str, out: &Path, extra: &[&str], failpoint: Option<&str>) -> Output {
+    let camp = campaign_path(name);
     let mut args = vec![
         "run",
         camp.to_str().unwrap(),
@@ -22,8 +29,6 @@ fn run(out: &Path, extra: &[&str], failpoint: Option<&str>) -> Output {
         out.to_str().unwrap(),
         "--backend",
         "cpu",
-        "--set",
-        "phases.0.duration_s=600",
     ];
     args.extend_from_slice(extra);
     common::cryoslosh_at(&args, failpoint)
@@ -277,15 +282,10 @@ fn a_merge_keeps_each_shards_own_cost() {
 fn variants_report_their_cost_and_a_run_with_nothing_left_has_no_rate() {
     let root = scratch("variants");
     let out = root.join("trade");
-    let camp = campaign_path("tank_design_trade");
-    let o = common::cryoslosh_at(
+    let o = run_campaign(
+        "tank_design_trade",
+        &out,
         &[
-            "run",
-            camp.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--backend",
-            "cpu",
             "--instances",
             "3",
             "--threads",
@@ -353,15 +353,10 @@ fn variants_report_their_cost_and_a_run_with_nothing_left_has_no_rate() {
 fn a_tvs_that_starts_on_counts_its_second_initial_evaluation() {
     let root = scratch("tvs_start");
     let out = root.join("r");
-    let camp = campaign_path("lh2_tvs_coast");
-    let o = common::cryoslosh_at(
+    let o = run_campaign(
+        "lh2_tvs_coast",
+        &out,
         &[
-            "run",
-            camp.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--backend",
-            "cpu",
             "--instances",
             "4",
             "--threads",
