@@ -16,13 +16,15 @@ about 8000 rows here; the engine itself keeps one lane group's parameters hot fo
 mission, so the rate on the rows alone is the engine's). `--repeat N` times every peer N times,
 interleaved, and keeps the best round of each.
 
-Cores: cryoslosh is timed on 1 and 2 rayon threads; numpy and XLA's CPU backend run the peers on
-one core (their process CPU time over wall time is measured and printed: 0.92-1.00 here), so the
-1-thread ratios are the same-hardware ones and the 2-thread ratios are what a 2-core machine
-gives each program as it comes.
+Cores: cryoslosh is timed on 1 and 2 rayon threads. Each peer's process CPU time over wall time
+is measured and printed: numpy keeps one core busy (0.94-1.00 here); XLA's CPU backend kept one
+(0.92-1.00) in some runs and up to 1.6 in others. The ratio against cryoslosh on as many threads
+as the cores a peer kept busy is marked as the same-hardware one; the 2-thread ratios are what a
+2-core machine gives each program as it comes.
 """
 
 import argparse
+import math
 import os
 import re
 import subprocess
@@ -139,12 +141,21 @@ def main():
         print(f"{label:<44} {r:>18,.0f}")
     for label, r in results.items():
         print(f"{label:<44} {r:>18,.0f}   (CPU time / wall {cores[label]:.2f})")
-    print("\nratios (cryoslosh / peer; the peers ran on one core, so 1 thread is the same hardware)")
+    # The cores each peer kept busy (its largest CPU share over any round, rounded up past a
+    # 0.15 allowance for the interpreter's own threads): the cryoslosh row with as many threads
+    # is the same-hardware comparison, whatever XLA's thread pool chose to do in this run.
+    used = {label: max(1, math.ceil(share - 0.15)) for label, share in cores.items()}
+    print("\nratios (cryoslosh / peer; '= cores' marks cryoslosh on as many threads as the cores")
+    print("the peer kept busy, its CPU time over wall time rounded up: the same-hardware ratio)")
     for table, rows in [(rust, a.rows), (rust_tiled, a.rows * a.tile)]:
         for t, r in sorted(table.items()):
             for label, q in results.items():
                 who = f"cryoslosh {t} thread(s) on {rows} rows"
-                print(f"  {who} / {label:<30} {r / q:8.2f}")
+                mark = "   = cores" if used[label] == t else ""
+                print(f"  {who} / {label:<30} {r / q:8.2f}{mark}")
+    for label, k in used.items():
+        if k > max(rust, default=0):
+            print(f"  {label} kept {cores[label]:.2f} cores busy, more than cryoslosh was given")
 
 
 if __name__ == "__main__":
