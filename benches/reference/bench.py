@@ -130,8 +130,7 @@ def main():
                 rate, share = timed(f, a.seconds)
                 # The share printed and used for the marks is that of the round whose rate is kept.
                 if n * rate > results.get(label, 0.0):
-                    cores[label] = share
-                keep(results, label, n * rate)
+                    results[label], cores[label] = n * rate, share
 
     if a.repeat > 1:
         print(f"\nbest of {a.repeat} interleaved rounds per peer")
