@@ -158,3 +158,46 @@ fn adaptive_lane_groups_equal_one_at_a_time() {
         );
     }
 }
+
+/// Dormand–Prince lanes take the next instance of their chunk as theirs end
+/// (`simulate::adaptive::integrate`): a chunk of more instances than lanes, whose members end
+/// at different step counts, gives each instance's one-at-a-time record bit for bit, whatever
+/// the chunk. The LCH4 coast's relief valve and the TVS coast's dispersed fill (each lane's own
+/// tolerance scales) are both taken over mid-run.
+#[test]
+fn adaptive_lanes_refilled_from_a_chunk_equal_one_at_a_time() {
+    for name in ["lch4_coast", "lh2_tvs_coast"] {
+        let c = load(name, &["campaign.fidelity=lumped"]);
+        let n = 2 * WIDTH as u64 + 5;
+        let plan = Plan {
+            campaign: &c,
+            seed: 11,
+            total: n,
+        };
+        let chunk = plan.run_lanes(0..n);
+        let single: Vec<InstanceRecord> = (0..n).map(|i| plan.run_instance(i)).collect();
+        assert_eq!(chunk.len(), single.len());
+        for (i, (l, s)) in text(&chunk).iter().zip(text(&single)).enumerate() {
+            assert_eq!(
+                *l, s,
+                "{name} instance {i}: refilled lanes and one at a time differ"
+            );
+        }
+        // Other chunkings: a group at a time, and two uneven chunks.
+        let width = WIDTH as u64;
+        let groups: Vec<InstanceRecord> = (0..n.div_ceil(width))
+            .flat_map(|k| plan.run_lanes(k * width..((k + 1) * width).min(n)))
+            .collect();
+        let uneven: Vec<InstanceRecord> = [0..7, 7..n]
+            .into_iter()
+            .flat_map(|r| plan.run_lanes(r))
+            .collect();
+        assert_eq!(text(&groups), text(&chunk), "{name}");
+        assert_eq!(text(&uneven), text(&chunk), "{name}");
+        // The lanes did end at different steps, so members were taken mid-run.
+        let mut steps: Vec<u64> = single.iter().map(|r| r.summary.steps).collect();
+        steps.sort_unstable();
+        steps.dedup();
+        assert!(steps.len() > WIDTH / 2, "{name}: step counts {steps:?}");
+    }
+}

@@ -6,7 +6,8 @@
 //! CPU backend is bit-identical for any thread count, block size and shard split; the GPU backend
 //! (`crate::gpu::engine`) is deterministic run to run and within 1e-3 of the CPU (docs/GPU.md).
 //! The CPU backend integrates lane groups of [`crate::lanes::WIDTH`] instances in lockstep
-//! (`simulate::simulate_lanes`), bit-identical to integrating each alone.
+//! (`simulate::simulate_lanes`; under Dormand–Prince a lane takes the next instance of its chunk
+//! when its own ends), bit-identical to integrating each alone.
 
 mod cpu;
 

@@ -3,7 +3,6 @@
 
 use crate::campaign::dispersion::Dispersions;
 use crate::campaign::{Campaign, CampaignError};
-use crate::lanes::WIDTH;
 use crate::sampling::{correlate, unit_sample};
 use crate::simulate::{simulate, simulate_lanes, Summary};
 
@@ -97,46 +96,59 @@ impl Plan<'_> {
         self.record(i, inputs, resolved)
     }
 
-    /// Sample, build and integrate the instances `range` (at most [`WIDTH`]) as one lane group
-    /// when their parameters are [`lane_compatible`](crate::model::params::Params::lane_compatible),
-    /// one at a time otherwise. The records equal [`Self::run_instance`]'s bit for bit.
+    /// Sample, build and integrate the instances `range` in lane groups
+    /// ([`simulate_lanes`]): the valid instances whose parameters are
+    /// [`lane_compatible`](crate::model::params::Params::lane_compatible) with the first valid
+    /// one together, any others one at a time. The records, in `range` order, equal
+    /// [`Self::run_instance`]'s bit for bit.
     pub fn run_lanes(&self, range: std::ops::Range<u64>) -> Vec<InstanceRecord> {
-        debug_assert!(range.end - range.start <= WIDTH as u64);
         let resolved: Vec<_> = range.clone().map(|i| self.resolve(i)).collect();
-        let valid: Vec<&Campaign> = resolved
+        let nominal = self.campaign;
+        let campaign = |r| resolved_campaign(r, nominal);
+        let first = resolved.iter().find_map(|(_, r)| campaign(r));
+        let in_lanes: Vec<bool> = resolved
             .iter()
-            .filter_map(|(_, r)| r.as_ref().ok())
-            .map(|c| c.as_ref().unwrap_or(self.campaign))
-            .collect();
-        let alike = valid
-            .iter()
-            .all(|c| valid[0].params.lane_compatible(&c.params));
-        if valid.len() < 2 || !alike {
-            return range
-                .zip(resolved)
-                .map(|(i, (inputs, r))| self.record(i, inputs, r))
-                .collect();
-        }
-        // Empty lanes repeat the first instance; their results are dropped.
-        let members: Vec<(&Campaign, &crate::model::params::Params)> = (0..WIDTH)
-            .map(|k| {
-                let c = valid.get(k).unwrap_or(&valid[0]);
-                (*c, &c.params)
+            .map(|(_, r)| {
+                campaign(r)
+                    .is_some_and(|c| first.is_some_and(|f| f.params.lane_compatible(&c.params)))
             })
             .collect();
-        let mut summaries = simulate_lanes(&members).into_iter();
+        let members: Vec<(&Campaign, &crate::model::params::Params)> = resolved
+            .iter()
+            .zip(&in_lanes)
+            .filter(|(_, &lane)| lane)
+            .filter_map(|((_, r), _)| campaign(r))
+            .map(|c| (c, &c.params))
+            .collect();
+        // A single instance gains nothing from a lane group.
+        let grouped = members.len() >= 2;
+        let mut summaries = if grouped {
+            simulate_lanes(&members)
+        } else {
+            Vec::new()
+        }
+        .into_iter();
         range
             .zip(resolved)
-            .map(|(i, (inputs, r))| match r {
-                Ok(_) => InstanceRecord {
+            .zip(in_lanes)
+            .map(|((i, (inputs, r)), lane)| match r {
+                Ok(_) if grouped && lane => InstanceRecord {
                     instance: i,
                     inputs,
                     summary: summaries.next().unwrap_or_default(),
                     rejected: false,
                     rejected_by: None,
                 },
-                Err(_) => self.record(i, inputs, r),
+                _ => self.record(i, inputs, r),
             })
             .collect()
     }
+}
+
+/// The campaign a resolved instance runs (`None`: its sample was rejected).
+fn resolved_campaign<'b>(
+    r: &'b Result<Option<Campaign>, CampaignError>,
+    nominal: &'b Campaign,
+) -> Option<&'b Campaign> {
+    r.as_ref().ok().map(|c| c.as_ref().unwrap_or(nominal))
 }

@@ -16,7 +16,7 @@ pub use qoi::{
 };
 
 use crate::campaign::{Campaign, Integrator};
-use crate::lanes::{Lanes, Mask, Real};
+use crate::lanes::{Lanes, Mask, Real, WIDTH};
 use crate::model::derive::{mode2_angle, slosh_angle, Derived, Drive, Switches};
 use crate::model::flight::{Phase, G0};
 use crate::model::params::{Fidelity, Params};
@@ -399,6 +399,15 @@ impl<'a> LaneRun<'a> {
                 .burning
                 .then(|| cavitation_margin(p, &s0, &ev0.derived).0),
         }
+    }
+
+    /// The history's first row: this lane at t = 0.
+    fn history_start(&self, h: &mut History) {
+        h.push(
+            row(self.params, 0.0, &self.s0, &self.last, &self.drive(0.0)),
+            &self.phase().name,
+            false,
+        );
     }
 
     fn phase(&self) -> &'a Phase {
@@ -790,21 +799,17 @@ fn integrate<T: Real>(
     members: &[(&Campaign, &Params)],
     mut history: Option<&mut History>,
 ) -> Vec<Summary> {
-    assert_eq!(members.len(), T::LANES, "one member per lane");
-    let params: Vec<Params> = members.iter().map(|m| *m.1).collect();
-    let g = Group::of(&params);
-    let lanes: Vec<LaneRun> = members.iter().map(|&(c, p)| LaneRun::start(c, p)).collect();
-    if let Some(h) = history.as_deref_mut() {
-        let l = &lanes[0];
-        h.push(
-            row(l.params, 0.0, &l.s0, &l.last, &l.drive(0.0)),
-            &l.phase().name,
-            false,
-        );
-    }
     let lanes = match members[0].0.stepping.integrator {
-        Integrator::Dopri5 => adaptive::integrate::<T>(g, lanes, history),
-        Integrator::Rk4 => integrate_fixed::<T>(g, lanes, history),
+        Integrator::Dopri5 => adaptive::integrate::<T>(members, history),
+        Integrator::Rk4 => {
+            assert_eq!(members.len(), T::LANES, "one member per lane");
+            let params: Vec<Params> = members.iter().map(|m| *m.1).collect();
+            let lanes: Vec<LaneRun> = members.iter().map(|&(c, p)| LaneRun::start(c, p)).collect();
+            if let Some(h) = history.as_deref_mut() {
+                lanes[0].history_start(h);
+            }
+            integrate_fixed::<T>(Group::of(&params), lanes, history)
+        }
     };
     lanes.into_iter().map(LaneRun::finish).collect()
 }
@@ -872,9 +877,25 @@ pub fn simulate(c: &Campaign, p: &Params, history: Option<&mut History>) -> Summ
     integrate::<f64>(&[(c, p)], history).remove(0)
 }
 
-/// Integrate [`crate::lanes::WIDTH`] instances in lockstep [`Lanes`]: the summaries equal those of
-/// [`simulate`] on each instance, bit for bit. The members must be mutually
-/// [`Params::lane_compatible`].
+/// Integrate `members` (any number, mutually [`Params::lane_compatible`]) in lockstep
+/// [`Lanes`]: the summaries, in member order, equal those of [`simulate`] on each instance, bit
+/// for bit. Fixed-step RK4 integrates them in groups of [`crate::lanes::WIDTH`] (the last one
+/// padded with the first member, whose copies are dropped); Dormand–Prince in one group whose
+/// lanes take the next member as theirs end ([`adaptive::integrate`]).
 pub fn simulate_lanes(members: &[(&Campaign, &Params)]) -> Vec<Summary> {
-    integrate::<Lanes>(members, None)
+    match members.first().map(|m| m.0.stepping.integrator) {
+        None => Vec::new(),
+        Some(Integrator::Dopri5) => integrate::<Lanes>(members, None),
+        Some(Integrator::Rk4) => members
+            .chunks(WIDTH)
+            .flat_map(|chunk| {
+                let padded: Vec<_> = (0..WIDTH)
+                    .map(|k| *chunk.get(k).unwrap_or(&chunk[0]))
+                    .collect();
+                let mut summaries = integrate::<Lanes>(&padded, None);
+                summaries.truncate(chunk.len());
+                summaries
+            })
+            .collect(),
+    }
 }
