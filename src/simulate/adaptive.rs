@@ -526,7 +526,11 @@ fn parabola_vertex(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
 }
 
 /// The error tolerances of `lanes` (each lane's own scales, `atol` and `rtol`).
-fn tolerance<T: Real>(lanes: &[LaneRun<'_>], scales: &[State]) -> Tolerance<T> {
+fn tolerance<T: Real>(lanes: &[LaneRun<'_>]) -> Tolerance<T> {
+    let scales: Vec<State> = lanes
+        .iter()
+        .map(|l| reference_scales(l.params, &l.s0))
+        .collect();
     Tolerance {
         atol: std::array::from_fn(|j| {
             T::from_fn(|i| scales[i][j] * lanes[i].campaign.stepping.atol)
@@ -568,11 +572,7 @@ pub(super) fn integrate<'a, T: Real>(
     let mut next = width.min(members.len());
     let mut ended: Vec<Option<LaneRun<'a>>> = (0..members.len()).map(|_| None).collect();
     let mut params: Vec<Params> = lanes.iter().map(|l| *l.params).collect();
-    let mut scales: Vec<State> = lanes
-        .iter()
-        .map(|l| reference_scales(l.params, &l.s0))
-        .collect();
-    let mut tol: Tolerance<T> = tolerance(&lanes, &scales);
+    let mut tol: Tolerance<T> = tolerance(&lanes);
     let mut s: State<T> = std::array::from_fn(|j| T::from_fn(|i| lanes[i].s0[j]));
     // The attempt's stages and end, and the mid-step probe, evaluated in place step after step.
     let mut trial = dopri::Trial::default();
@@ -590,13 +590,12 @@ pub(super) fn integrate<'a, T: Real>(
                 }
                 member_of[i] = Some(next);
                 params[i] = *members[next].1;
-                scales[i] = reference_scales(lanes[i].params, &lanes[i].s0);
                 next += 1;
                 refilled = true;
             }
         }
         if refilled {
-            tol = tolerance(&lanes, &scales);
+            tol = tolerance(&lanes);
             s = std::array::from_fn(|j| T::from_fn(|i| lanes[i].last_state[j]));
         }
         if lanes.iter().all(|l| l.done) {
