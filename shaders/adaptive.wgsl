@@ -141,24 +141,37 @@ fn any_switch(kind: u32, p_u: f32, open: bool) -> f32 {
     return dp_switch(p_u, open);
 }
 
-/// The step fraction in [lo.x, hi.x] where the switching function crosses zero, g(lo) < 0 ≤
-/// g(hi): Illinois regula falsi on the dense output (adaptive::locate), to f32's resolution.
-fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2<f32>, hi_in: vec2<f32>, open: bool, kind: u32, r: ptr<function, GpuResult>) -> f32 {
+/// The step fraction in [lo.x, hi.x] where switching function `kind` crosses zero, g(lo) < 0 ≤
+/// g(hi): Illinois regula falsi on the dense output (adaptive::locate), to f32's resolution,
+/// then the root's check: it is a switch only where the pressure is within 1e-3 of `band_pa`
+/// (the crack or the TVS's upper pressure) of the band's end. A root at or after `before` is not
+/// checked (an earlier switch cuts the step). Returns the root, or 2.0 for none. One
+/// `derive_state` call site for the iterations and the check: NIR inlines every call.
+fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2<f32>, hi_in: vec2<f32>, open: bool, kind: u32, before: f32, band_pa: f32, r: ptr<function, GpuResult>) -> f32 {
     var lo = lo_in;
     var hi = hi_in;
     var side = 0;
-    for (var it = 0u; it < 40u; it++) {
-        if (hi.x - lo.x <= 1.0e-6) {
-            break;
-        }
-        var th = (lo.x * hi.y - hi.x * lo.y) / (hi.y - lo.y);
-        if (!(th > lo.x && th < hi.x)) {
-            th = 0.5 * (lo.x + hi.x);
+    // Forty rounds at most, then the check (round 40 at the latest).
+    for (var it = 0u; it <= 40u; it++) {
+        let checking = it == 40u || hi.x - lo.x <= 1.0e-6;
+        var th = hi.x;
+        if (checking) {
+            if (!(th < before)) {
+                return 2.0;
+            }
+        } else {
+            th = (lo.x * hi.y - hi.x * lo.y) / (hi.y - lo.y);
+            if (!(th > lo.x && th < hi.x)) {
+                th = 0.5 * (lo.x + hi.x);
+            }
         }
         var y = dp_dense(hi_s, th);
         let x = derive_state(&y, phase_drive(ph, t0 + th * h, open));
         (*r).evaluations += 1u;
         let v = any_switch(kind, x.p_u, open);
+        if (checking) {
+            return select(2.0, th, abs(v) <= 1.0e-3 * band_pa);
+        }
         if (v >= 0.0) {
             hi = vec2<f32>(th, v);
             if (side == 1) {
@@ -173,7 +186,7 @@ fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2
             side = -1;
         }
     }
-    return hi.x;
+    return 2.0;
 }
 
 /// The first step after a discontinuity: the interface's relaxation time (adaptive::restart_step).
@@ -248,15 +261,40 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             landing = LAND_PHASE_END;
         }
         // Stages 1–7 (stage 1 only when k1 cannot be reused, evaluated at the proposal's step
-        // as the CPU does; stage 7's state is the fifth-order end, its rates the next k1), through
-        // one call site: NIR inlines every call, and the right-hand side is most of the kernel.
+        // as the CPU does; stage 7's state is the fifth-order end, its rates the next k1), the
+        // error norm after stage 7, and for an accepted step the mid-step probe as an eighth
+        // pass on the dense output: one `evaluate` call site, since NIR inlines every call and
+        // the right-hand side is most of the kernel.
         var ev7: Eval;
         var y7: St;
-        for (var stage = select(0u, 1u, have_k1); stage < 7u; stage++) {
+        var ev_mid: Eval;
+        var y_mid: St;
+        var d_mid: Drive;
+        var err = 0.0;
+        for (var stage = select(0u, 1u, have_k1); stage < 8u; stage++) {
             var y = hi;
             var t_stage = t0;
             var h_eval = r.h_s;
-            if (stage > 0u) {
+            if (stage == 7u) {
+                // Accepted: the dense output's coefficients, then the probe at mid-step.
+                for (var j = 0u; j < NS; j++) {
+                    var b = 0.0;
+                    var d = 0.0;
+                    for (var m = 0u; m < 7u; m++) {
+                        if (m < 6u) {
+                            b += DP_A[5][m] * K[m][j];
+                        }
+                        d += DP_D[m] * K[m][j];
+                    }
+                    R1[j] = h * b;
+                    R2[j] = h * K[0][j] - R1[j];
+                    R3[j] = R1[j] - h * K[6][j] - R2[j];
+                    R4[j] = h * d;
+                }
+                y = dp_dense(&hi, 0.5);
+                t_stage = t0 + 0.5 * h;
+                h_eval = h;
+            } else if (stage > 0u) {
                 for (var j = 0u; j < NS; j++) {
                     var inc = 0.0;
                     for (var m = 0u; m < stage; m++) {
@@ -267,7 +305,15 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
                 t_stage = t0 + DP_C[stage] * h;
                 h_eval = h;
             }
-            let ev = evaluate(&y, phase_drive(ph, t_stage, valve), h_eval);
+            let d_stage = phase_drive(ph, t_stage, valve);
+            let ev = evaluate(&y, d_stage, h_eval);
+            if (stage == 7u) {
+                ev_mid = ev;
+                y_mid = y;
+                d_mid = d_stage;
+                r.evaluations += 1u;
+                break;
+            }
             K[stage] = ev.ds;
             if (stage == 0u) {
                 r.evaluations += 1u;
@@ -277,26 +323,28 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (stage == 6u) {
                 ev7 = ev;
                 y7 = y;
+                r.evaluations += 6u;
+                // The error norm, with the stiff terms' lag held to the vapour-mass tolerance.
+                for (var j = 0u; j < NS; j++) {
+                    var e = 0.0;
+                    for (var m = 0u; m < 7u; m++) {
+                        e += DP_E[m] * K[m][j];
+                    }
+                    let scale = P.atol[j] + P.rtol * max(abs(hi[j] + lo[j]), abs(y7[j]));
+                    let ratio = abs(e * h) / scale;
+                    if (!(ratio <= err)) {
+                        err = ratio;
+                    }
+                }
+                let lag = abs(h * (ev7.evap - r.evap_last)) * 0.5
+                    / (P.atol[M_V] + P.rtol * max(abs(hi[M_V] + lo[M_V]), abs(y7[M_V])));
+                if (!(lag <= err)) {
+                    err = lag;
+                }
+                if (!(err <= 1.0)) {
+                    break;
+                }
             }
-        }
-        r.evaluations += 6u;
-        // The error norm, with the stiff terms' lag held to the vapour-mass tolerance.
-        var err = 0.0;
-        for (var j = 0u; j < NS; j++) {
-            var e = 0.0;
-            for (var m = 0u; m < 7u; m++) {
-                e += DP_E[m] * K[m][j];
-            }
-            let scale = P.atol[j] + P.rtol * max(abs(hi[j] + lo[j]), abs(y7[j]));
-            let ratio = abs(e * h) / scale;
-            if (!(ratio <= err)) {
-                err = ratio;
-            }
-        }
-        let lag = abs(h * (ev7.evap - r.evap_last)) * 0.5
-            / (P.atol[M_V] + P.rtol * max(abs(hi[M_V] + lo[M_V]), abs(y7[M_V])));
-        if (!(lag <= err)) {
-            err = lag;
         }
         if (!(err <= 1.0)) {
             r.rejected += 1u;
@@ -312,77 +360,43 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             continue;
         }
 
-        // Accepted: the dense output's coefficients.
-        for (var j = 0u; j < NS; j++) {
-            var b = 0.0;
-            var d = 0.0;
-            for (var m = 0u; m < 7u; m++) {
-                if (m < 6u) {
-                    b += DP_A[5][m] * K[m][j];
-                }
-                d += DP_D[m] * K[m][j];
-            }
-            R1[j] = h * b;
-            R2[j] = h * K[0][j] - R1[j];
-            R3[j] = R1[j] - h * K[6][j] - R2[j];
-            R4[j] = h * d;
-        }
-        // The mid-step probe and the valve's switching function along the step.
-        var y_mid = dp_dense(&hi, 0.5);
-        let d_mid = phase_drive(ph, t0 + 0.5 * h, valve);
-        let ev_mid = evaluate(&y_mid, d_mid, h);
-        r.evaluations += 1u;
+        // The relief valve's and then the TVS's switching function along the step (one
+        // dp_locate call site): the earlier switch cuts the step (adaptive.rs). A root where
+        // the pressure is not at the band's end is no switch (dp_locate): near an empty tank
+        // the f32 equilibrium of the homogeneous level can make the switching function jump
+        // without a crossing (a located "opening" at 242 kPa under a 340 kPa crack), and the
+        // step goes on whole.
         var theta_end = 1.0;
         var cut = false;
-        let open = valve;
-        if ((P.flags & FLAG_RELIEF) != 0u) {
-            let g0 = dp_switch(r.p_ullage_pa, open);
-            let gm = dp_switch(ev_mid.x.p_u, open);
-            let g1 = dp_switch(ev7.x.p_u, open);
-            if (gm >= 0.0) {
-                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.0, g0), vec2<f32>(0.5, gm), open, 0u, &r);
-                cut = true;
-            } else if (g1 >= 0.0) {
-                theta_end = dp_locate(&hi, ph, t0, h, vec2<f32>(0.5, gm), vec2<f32>(1.0, g1), open, 0u, &r);
-                cut = true;
-            }
-            // A switch is where the pressure reaches the crack (or reseat): near an empty tank the
-            // f32 equilibrium of the homogeneous level can make the switching function jump
-            // without a crossing (a located "opening" at 242 kPa under a 340 kPa crack); such a
-            // root is no switch, and the step goes on whole.
-            if (cut) {
-                var y_cut = dp_dense(&hi, theta_end);
-                let x_cut = derive_state(&y_cut, phase_drive(ph, t0 + theta_end * h, open));
-                r.evaluations += 1u;
-                if (!(abs(dp_switch(x_cut.p_u, open)) <= 1.0e-3 * P.relief_crack_pa)) {
-                    cut = false;
-                    theta_end = 1.0;
-                }
-            }
-        }
-        // The TVS's switch, if it comes before the valve's (adaptive.rs: the earlier one cuts).
         var cut_tvs = false;
+        let open = valve;
         let tvs_was = TVS_ON;
-        if ((P.flags & FLAG_TVS) != 0u && ph.tvs != 0u) {
-            let g0 = tvs_switch(r.p_ullage_pa, tvs_was);
-            let gm = tvs_switch(ev_mid.x.p_u, tvs_was);
-            let g1 = tvs_switch(ev7.x.p_u, tvs_was);
-            var th = 2.0;
-            if (gm >= 0.0) {
-                th = dp_locate(&hi, ph, t0, h, vec2<f32>(0.0, g0), vec2<f32>(0.5, gm), open, 1u, &r);
-            } else if (g1 >= 0.0) {
-                th = dp_locate(&hi, ph, t0, h, vec2<f32>(0.5, gm), vec2<f32>(1.0, g1), open, 1u, &r);
+        for (var kind = 0u; kind < 2u; kind++) {
+            var band_pa = P.relief_crack_pa;
+            var armed = (P.flags & FLAG_RELIEF) != 0u;
+            if (kind == 1u) {
+                band_pa = P.tvs_upper_pa;
+                armed = (P.flags & FLAG_TVS) != 0u && ph.tvs != 0u;
             }
-            if (th <= 1.0 && (!cut || th < theta_end)) {
-                // As for the valve: a root where the pressure is not at the band's end is none.
-                var y_cut = dp_dense(&hi, th);
-                let x_cut = derive_state(&y_cut, phase_drive(ph, t0 + th * h, open));
-                r.evaluations += 1u;
-                if (abs(tvs_switch(x_cut.p_u, tvs_was)) <= 1.0e-3 * P.tvs_upper_pa) {
-                    cut = true;
-                    cut_tvs = true;
-                    theta_end = th;
-                }
+            if (!armed) {
+                continue;
+            }
+            let g0 = any_switch(kind, r.p_ullage_pa, open);
+            let gm = any_switch(kind, ev_mid.x.p_u, open);
+            let g1 = any_switch(kind, ev7.x.p_u, open);
+            var lo_b = vec2<f32>(0.5, gm);
+            var hi_b = vec2<f32>(1.0, g1);
+            if (gm >= 0.0) {
+                lo_b = vec2<f32>(0.0, g0);
+                hi_b = vec2<f32>(0.5, gm);
+            } else if (!(g1 >= 0.0)) {
+                continue;
+            }
+            let th = dp_locate(&hi, ph, t0, h, lo_b, hi_b, open, kind, select(2.0, theta_end, cut), band_pa, &r);
+            if (th <= 1.0) {
+                cut = true;
+                cut_tvs = kind == 1u;
+                theta_end = th;
             }
         }
         var hi_prev = hi;
@@ -413,108 +427,157 @@ fn main_dopri5(@builtin(global_invocation_id) gid: vec3<u32>) {
             t_end = corner;
         }
         var d_end = phase_drive(ph, t_end, valve);
-        // The end state's evaluation: the fifth-order end's unless the step was cut or the bulk
-        // merged (one call site; a cut step whose bulk merged is evaluated once, merged).
-        var ev_end = ev7;
         let merged = merge_empty_bulk(&hi, &lo, hi_prev[M_B] + lo_prev[M_B], t_end - t0, BULK_MERGE_DRAIN_S);
-        if (cut || merged) {
-            ev_end = evaluate(&hi, d_end, h);
-            r.evaluations += 1u;
-        }
-        r.steps += 1u;
         let mission = r.phase_start_s + t_end;
-        r.final_time_s = mission;
-        let bad = check_state(&hi, ev_end.x);
-        let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
-        let th_dry = outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], r.phase_start_s + t0, mission, ev_end, bad, K[0][M_S] + K[0][M_B]);
-        if (th_dry >= 0.0) {
-            end_dry(&r, &hi, &lo, hi_prev, lo_prev, ph, vec2<f32>(t0, t_end), r.phase_start_s + t0, th_dry, bad, valve);
-            r.t_phase_s = t_end;
-            break;
-        }
-        if (cut && !cut_tvs && !open) {
-            r.relief_cycles += 1u;
-        }
-        if (cut_tvs && !tvs_was) {
-            r.tvs_cycles += 1u;
-        }
-        if (bad.x != 0.0) {
-            r.diverged = u32(bad.x);
-            r.diverged_value = bad.y;
-            r.diverged_time_s = mission;
-            r.diverged_phase = ip;
-            r.t_phase_s = t_end;
-            break;
-        }
-        // Extremes between the step ends: the probe (at mid-step, or inside a cut step), then
-        // the vertex of the parabola through start, probe and end where the probe is extreme.
-        var th_m = 0.5;
-        var s_m = y_mid;
-        var ev_m = ev_mid;
-        var d_m = d_mid;
-        if (theta_end <= 0.5) {
-            th_m = 0.5 * theta_end;
-            s_m = dp_dense(&hi_prev, th_m);
-            d_m = phase_drive(ph, t0 + th_m * h, open);
-            ev_m = evaluate(&s_m, d_m, h);
-            r.evaluations += 1u;
-        }
-        observe(&r, &s_m, r.phase_start_s + t0 + th_m * h, ev_m, d_m);
-        let q_end = dp_extremes(&hi, ev_end);
-        let q_m = dp_drawing(dp_extremes(&s_m, ev_m), d_m.burning);
-        let q_e = dp_drawing(q_end, d_m.burning);
-        let q_0 = dp_drawing(r.q_last, d_m.burning);
+
+        // The evaluations after the step, through one call site: visit 0 the end state (the
+        // fifth-order end's evaluation unless the step was cut or the bulk merged; a cut step
+        // whose bulk merged is evaluated once, merged), its outcomes; visit 1 the probe (at
+        // mid-step, or inside a cut step), then the extremes' parabola vertices found from it,
+        // one visit each; or, when the tank ran dry within the step, visit 1 the state there
+        // and the instance's end (observe.wgsl: dry_state, this visit's evaluation, dry_finish).
+        var ev_end = ev7;
+        var dry = false;
+        var th_dry = 0.0;
+        var s_dry_lo: St;
+        var q_end: array<f32, 5>;
+        var stop = false;
         var vertices = array<f32, 6>(-1.0, -1.0, -1.0, -1.0, -1.0, -1.0);
         var vertex_of = array<u32, 6>(0u, 0u, 0u, 0u, 0u, 0u);
         var n_vertices = 0u;
-        for (var j = 0u; j < 5u; j++) {
-            if (q_m[j] > q_0[j] && q_m[j] > q_e[j]) {
-                let v = dp_vertex(vec2<f32>(0.0, q_0[j]), vec2<f32>(th_m, q_m[j]), vec2<f32>(theta_end, q_e[j]));
-                var distinct = v > 0.0 && v < theta_end;
-                for (var m = 0u; m < n_vertices; m++) {
-                    distinct = distinct && abs(vertices[m] - v) > 1.0e-3 * theta_end;
+        for (var visit = 0u; visit < 2u + n_vertices; visit++) {
+            var th_p = 0.5;
+            var need = true;
+            if (visit == 0u) {
+                th_p = theta_end;
+                need = cut || merged;
+            } else if (visit == 1u) {
+                need = theta_end <= 0.5;
+                if (need) {
+                    th_p = 0.5 * theta_end;
                 }
-                if (distinct) {
-                    vertices[n_vertices] = v;
-                    vertex_of[n_vertices] = j;
+            } else {
+                th_p = vertices[visit - 2u];
+            }
+            var s_p = y_mid;
+            var d_p = d_mid;
+            var ev_p = ev_mid;
+            var dt_p = h;
+            if (visit == 0u) {
+                s_p = hi;
+                d_p = d_end;
+                ev_p = ev7;
+            }
+            if (dry) {
+                th_p = th_dry;
+                dt_p = t_end - t0;
+                s_p = dry_state(&hi, &lo, hi_prev, lo_prev, th_p, &s_dry_lo);
+                d_p = phase_drive(ph, t0 + th_p * dt_p, valve);
+            } else if (need && visit > 0u) {
+                s_p = dp_dense(&hi_prev, th_p);
+                d_p = phase_drive(ph, t0 + th_p * h, open);
+            }
+            if (need || dry) {
+                ev_p = evaluate(&s_p, d_p, dt_p);
+                r.evaluations += 1u;
+            }
+            if (dry) {
+                dry_finish(&r, &hi, &lo, hi_prev, lo_prev, &s_p, s_dry_lo, ev_p, d_p, r.phase_start_s + t0, th_p, dt_p);
+                r.t_phase_s = t_end;
+                stop = true;
+                break;
+            }
+            if (visit == 0u) {
+                ev_end = ev_p;
+                r.steps += 1u;
+                r.final_time_s = mission;
+                let bad = check_state(&hi, ev_end.x);
+                let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
+                th_dry = outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], r.phase_start_s + t0, mission, ev_end, bad, K[0][M_S] + K[0][M_B]);
+                if (th_dry >= 0.0) {
+                    if (bad.x == 0.0) {
+                        dry = true;
+                        continue;
+                    }
+                    // The end state left the model: the instance ends on the step's start.
+                    hi = hi_prev;
+                    lo = lo_prev;
+                    r.final_time_s = r.phase_start_s + t0;
+                    r.t_phase_s = t_end;
+                    stop = true;
+                    break;
+                }
+                if (cut && !cut_tvs && !open) {
+                    r.relief_cycles += 1u;
+                }
+                if (cut_tvs && !tvs_was) {
+                    r.tvs_cycles += 1u;
+                }
+                if (bad.x != 0.0) {
+                    r.diverged = u32(bad.x);
+                    r.diverged_value = bad.y;
+                    r.diverged_time_s = mission;
+                    r.diverged_phase = ip;
+                    r.t_phase_s = t_end;
+                    stop = true;
+                    break;
+                }
+                q_end = dp_extremes(&hi, ev_end);
+                continue;
+            }
+            observe(&r, &s_p, r.phase_start_s + t0 + th_p * h, ev_p, d_p);
+            if (visit > 1u) {
+                continue;
+            }
+            // Extremes between the step ends: the vertex of the parabola through start, probe
+            // and end where the probe is extreme.
+            let q_m = dp_drawing(dp_extremes(&s_p, ev_p), d_p.burning);
+            let q_e = dp_drawing(q_end, d_p.burning);
+            let q_0 = dp_drawing(r.q_last, d_p.burning);
+            for (var j = 0u; j < 5u; j++) {
+                if (q_m[j] > q_0[j] && q_m[j] > q_e[j]) {
+                    let v = dp_vertex(vec2<f32>(0.0, q_0[j]), vec2<f32>(th_p, q_m[j]), vec2<f32>(theta_end, q_e[j]));
+                    var distinct = v > 0.0 && v < theta_end;
+                    for (var m = 0u; m < n_vertices; m++) {
+                        distinct = distinct && abs(vertices[m] - v) > 1.0e-3 * theta_end;
+                    }
+                    if (distinct) {
+                        vertices[n_vertices] = v;
+                        vertex_of[n_vertices] = j;
+                        n_vertices += 1u;
+                    }
+                }
+            }
+            // The slosh displacement's extreme on the dense output alone (adaptive.rs: eight
+            // intervals, then the vertex through the largest interior sample).
+            var best = 0u;
+            var scan: array<f32, 9>;
+            for (var i = 0u; i <= 8u; i++) {
+                scan[i] = abs(dp_dense_slot(&hi_prev, Q1, theta_end * f32(i) / 8.0));
+                if (scan[i] > scan[best]) {
+                    best = i;
+                }
+            }
+            if (best > 0u && best < 8u) {
+                let step = theta_end / 8.0;
+                let w = dp_vertex(
+                    vec2<f32>(f32(best - 1u) * step, scan[best - 1u]),
+                    vec2<f32>(f32(best) * step, scan[best]),
+                    vec2<f32>(f32(best + 1u) * step, scan[best + 1u]),
+                );
+                var fresh = w > 0.0 && w < theta_end;
+                for (var m = 0u; m < n_vertices; m++) {
+                    fresh = fresh && (vertex_of[m] != 3u || abs(vertices[m] - w) > 1.0e-3 * theta_end);
+                }
+                if (fresh) {
+                    vertices[n_vertices] = w;
+                    vertex_of[n_vertices] = 5u;
                     n_vertices += 1u;
                 }
             }
         }
-        // The slosh displacement's extreme on the dense output alone (adaptive.rs: eight
-        // intervals, then the vertex through the largest interior sample).
-        var best = 0u;
-        var scan: array<f32, 9>;
-        for (var i = 0u; i <= 8u; i++) {
-            scan[i] = abs(dp_dense_slot(&hi_prev, Q1, theta_end * f32(i) / 8.0));
-            if (scan[i] > scan[best]) {
-                best = i;
-            }
-        }
-        if (best > 0u && best < 8u) {
-            let step = theta_end / 8.0;
-            let w = dp_vertex(
-                vec2<f32>(f32(best - 1u) * step, scan[best - 1u]),
-                vec2<f32>(f32(best) * step, scan[best]),
-                vec2<f32>(f32(best + 1u) * step, scan[best + 1u]),
-            );
-            var fresh = w > 0.0 && w < theta_end;
-            for (var m = 0u; m < n_vertices; m++) {
-                fresh = fresh && (vertex_of[m] != 3u || abs(vertices[m] - w) > 1.0e-3 * theta_end);
-            }
-            if (fresh) {
-                vertices[n_vertices] = w;
-                vertex_of[n_vertices] = 5u;
-                n_vertices += 1u;
-            }
-        }
-        for (var m = 0u; m < n_vertices; m++) {
-            let v = vertices[m];
-            var s_v = dp_dense(&hi_prev, v);
-            let d_v = phase_drive(ph, t0 + v * h, open);
-            let ev_v = evaluate(&s_v, d_v, h);
-            r.evaluations += 1u;
-            observe(&r, &s_v, r.phase_start_s + t0 + v * h, ev_v, d_v);
+        if (stop) {
+            break;
         }
         observe(&r, &hi, mission, ev_end, d_end);
         slosh_validity(&r, &hi, t_end - t0, ev_end, d_end);

@@ -289,35 +289,39 @@ fn outcomes(r: ptr<function, GpuResult>, press0: f32, press1: f32, t0: f32, t1: 
     return th;
 }
 
-/// The instance ran dry at share `th` of the step from the state `hi_prev` + `lo_prev` (phase
-/// time `tp.x`, mission time `t0`) to `hi` + `lo` (phase time `tp.y`): it ends on the state
-/// interpolated there, observed like a step's end, or on the step's start when the end state
-/// (`bad`) or the interpolated one left the model (LaneRun::outcomes).
-fn end_dry(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>, hi_prev: St, lo_prev: St, ph: GpuPhase, tp: vec2<f32>, t0: f32, th: f32, bad: vec2<f32>, valve: bool) {
-    let dt = tp.y - tp.x;
-    if (bad.x == 0.0) {
-        var s_hi = hi_prev;
-        var s_lo = lo_prev;
-        for (var j = 0u; j < NS; j++) {
-            // Kahan, as a step's update: the value is hi + lo.
-            let inc = th * (((*hi)[j] - hi_prev[j]) + ((*lo)[j] - lo_prev[j])) + s_lo[j];
-            let sum = (s_hi[j] + inc) * control.one;
-            s_lo[j] = inc - (sum - s_hi[j]);
-            s_hi[j] = sum;
-        }
-        let d = phase_drive(ph, tp.x + th * dt, valve);
-        let ev = evaluate(&s_hi, d, dt);
-        (*r).evaluations += 1u;
-        if (check_state(&s_hi, ev.x).x == 0.0) {
-            let t = t0 + th * dt;
-            observe(r, &s_hi, t, ev, d);
-            slosh_validity(r, &s_hi, th * dt, ev, d);
-            save_last(r, ev.x);
-            (*r).final_time_s = t;
-            *hi = s_hi;
-            *lo = s_lo;
-            return;
-        }
+/// An instance that ran dry at share `th` of the step from the state `hi_prev` + `lo_prev` to
+/// `hi` + `lo` ends on the state interpolated there, observed like a step's end, or on the
+/// step's start when the end state or the interpolated one left the model (LaneRun::outcomes).
+/// Two halves around the interpolated state's evaluation, which each kernel makes at its own
+/// one `evaluate` call site (NIR inlines every call): [`dry_state`], then [`dry_finish`].
+///
+/// The interpolated state as hi + lo words (Kahan, as a step's update; its lo word into `s_lo`).
+fn dry_state(hi: ptr<function, St>, lo: ptr<function, St>, hi_prev: St, lo_prev: St, th: f32, s_lo: ptr<function, St>) -> St {
+    var s_hi = hi_prev;
+    *s_lo = lo_prev;
+    for (var j = 0u; j < NS; j++) {
+        let inc = th * (((*hi)[j] - hi_prev[j]) + ((*lo)[j] - lo_prev[j])) + (*s_lo)[j];
+        let sum = (s_hi[j] + inc) * control.one;
+        (*s_lo)[j] = inc - (sum - s_hi[j]);
+        s_hi[j] = sum;
+    }
+    return s_hi;
+}
+
+/// The dry end once the interpolated state `s_hi` + `s_lo` ([`dry_state`]) has its evaluation
+/// `ev` (drive `d`; share `th` of a step of `dt` seconds from mission time `t0`): the instance
+/// ends there, or on the step's start (`hi_prev` + `lo_prev`, time `t0`) when that state left
+/// the model. A kernel whose end state left the model ends on the step's start without this.
+fn dry_finish(r: ptr<function, GpuResult>, hi: ptr<function, St>, lo: ptr<function, St>, hi_prev: St, lo_prev: St, s_hi: ptr<function, St>, s_lo: St, ev: Eval, d: Drive, t0: f32, th: f32, dt: f32) {
+    if (check_state(s_hi, ev.x).x == 0.0) {
+        let t = t0 + th * dt;
+        observe(r, s_hi, t, ev, d);
+        slosh_validity(r, s_hi, th * dt, ev, d);
+        save_last(r, ev.x);
+        (*r).final_time_s = t;
+        *hi = *s_hi;
+        *lo = s_lo;
+        return;
     }
     *hi = hi_prev;
     *lo = lo_prev;

@@ -67,17 +67,29 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let tp = f32(k) * dt;
         let hi_prev = hi;
         let lo_prev = lo;
-        // The four stages (k1 only when it cannot be reused) and the evaluation at the step's
-        // end, through one call site: NIR inlines every call, and the right-hand side is most of
-        // the kernel (eight call sites made the `layered` kernel's cold compile take minutes).
+        // The four stages (k1 only when it cannot be reused), the evaluation at the step's end
+        // and, for an instance that ran dry within the step, the state where it did (stage 5:
+        // observe.wgsl's dry_state and dry_finish around it), through one call site: NIR
+        // inlines every call, and the right-hand side is most of the kernel (eight call sites
+        // made the `layered` kernel's cold compile take minutes).
         var merged = false;
         var tn = tp;
         var d: Drive;
         var ev: Eval;
-        for (var stage = select(0u, 1u, have_k1); stage < 5u; stage++) {
+        var t = 0.0;
+        var bad = vec2<f32>(0.0, 0.0);
+        var th = -1.0;
+        var s_dry_lo: St;
+        for (var stage = select(0u, 1u, have_k1); stage < 6u; stage++) {
             var y = hi;
             var at = tp;
-            if (stage == 4u) {
+            var dt_eval = dt;
+            if (stage == 5u) {
+                // The step of phase times (tn − dt, tn), its length as the dry end always took it.
+                dt_eval = tn - (tn - dt);
+                y = dry_state(&hi, &lo, hi_prev, lo_prev, th, &s_dry_lo);
+                at = (tn - dt) + th * dt_eval;
+            } else if (stage == 4u) {
                 for (var j = 0u; j < NS; j++) {
                     // Kahan: the value is hi + lo; lo keeps what the f32 hi word could not take.
                     let inc = dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) + lo[j];
@@ -107,8 +119,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
             }
             d = phase_drive(ph, at, valve);
-            ev = evaluate(&y, d, dt);
+            ev = evaluate(&y, d, dt_eval);
             evals += 1u;
+            if (stage == 5u) {
+                dry_finish(&r, &hi, &lo, hi_prev, lo_prev, &y, s_dry_lo, ev, d, t - dt, th, dt_eval);
+                break;
+            }
             switch stage {
                 case 0u: {
                     k1 = ev.ds;
@@ -124,14 +140,25 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
                 default: {}
             }
+            if (stage == 4u) {
+                t = r.phase_start_s + tn;
+                r.final_time_s = t;
+                bad = check_state(&hi, ev.x);
+                let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
+                th = outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, bad, k1[M_S] + k1[M_B]);
+                if (!(th >= 0.0 && bad.x == 0.0)) {
+                    break;
+                }
+            }
         }
-        let t = r.phase_start_s + tn;
-        r.final_time_s = t;
-        let bad = check_state(&hi, ev.x);
-        let press0 = hi_prev[PRESS_IN] + lo_prev[PRESS_IN];
-        let th = outcomes(&r, press0, hi[PRESS_IN] + lo[PRESS_IN], t - dt, t, ev, bad, k1[M_S] + k1[M_B]);
         if (th >= 0.0) {
-            end_dry(&r, &hi, &lo, hi_prev, lo_prev, ph, vec2<f32>(tn - dt, tn), t - dt, th, bad, valve);
+            // Ran dry: stage 5 ended the instance there, or, where the end state left the
+            // model, it ends on the step's start.
+            if (bad.x != 0.0) {
+                hi = hi_prev;
+                lo = lo_prev;
+                r.final_time_s = t - dt;
+            }
             break;
         }
         if (bad.x != 0.0) {
