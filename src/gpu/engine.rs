@@ -29,16 +29,21 @@ const WORKGROUP: u32 = 64;
 /// The whole kernel source for `integrator`: generated constants and structs, the physics and
 /// observation (`shaders/model.wgsl`, `derive.wgsl`, `insulation.wgsl`, `closures.wgsl`, `rhs.wgsl`,
 /// `observe.wgsl`), then the stepping loop (`shaders/rk4.wgsl` with entry
-/// point `main`, or `shaders/adaptive.wgsl` with `main_dopri5`). One module per integrator: a
-/// driver that compiles the whole module for each entry point (llvmpipe) pays for one loop only.
+/// point `main`, or `shaders/adaptive.wgsl` with `main_dopri5` and `adaptive_events.wgsl`).
+/// One module per integrator: a driver that compiles the whole module for each entry point
+/// (llvmpipe) pays for one loop only.
 ///
 /// `layered`: the kernel that also runs the `layered` level, with `shaders/column.wgsl` and the
 /// column's slots in its state type; the others leave out every block between `// LAYERED{` and
 /// `// }LAYERED` lines, so that the lumped levels carry no column in their registers.
 pub fn kernel_source(integrator: Integrator, layered: bool) -> String {
     let stepping = match integrator {
-        Integrator::Rk4 => include_str!("../../shaders/rk4.wgsl"),
-        Integrator::Dopri5 => include_str!("../../shaders/adaptive.wgsl"),
+        Integrator::Rk4 => include_str!("../../shaders/rk4.wgsl").to_string(),
+        Integrator::Dopri5 => [
+            include_str!("../../shaders/adaptive.wgsl"),
+            include_str!("../../shaders/adaptive_events.wgsl"),
+        ]
+        .join("\n"),
     };
     let column = if layered {
         include_str!("../../shaders/column.wgsl")
