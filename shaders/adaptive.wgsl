@@ -1,14 +1,16 @@
 // Error-controlled integration on the device (`campaign.integrator = "dopri5"`): the WGSL mirror
 // of src/model/dopri.rs (the Dormand–Prince 5(4) pair, its error norm and dense output) and of
 // src/simulate/adaptive.rs (a step per invocation, bounded by the phase, its excitation and the
-// slosh period, landing on phase ends and excitation corners; relief-valve switches located on
-// the dense output and the step cut there; extremes between step ends from a probe and a
-// parabola: `shaders/adaptive_events.wgsl`). Change one, change both; tests/gpu_parity.rs
+// slosh period, landing on phase ends and excitation corners; relief-valve and TVS switches
+// located on the dense output and the step cut there; extremes between step ends from a probe
+// and a parabola). The extremes, the switching functions, their root finder and the restart
+// step are in `shaders/adaptive_events.wgsl`. Change one, change both; tests/gpu_parity.rs
 // checks.
 //
-// Uses model.wgsl's evaluate, observe, outcomes, check_state, merge_empty_bulk, enter_phase,
-// slosh_validity, cavitation_margin and save_last. The state is carried in hi + lo words as under
-// RK4: an accepted step's increment h Σ b_j k_j is added with Kahan compensation.
+// Uses observe.wgsl's evaluate, observe, outcomes, check_state, merge_empty_bulk, enter_phase,
+// slosh_validity, save_last, start_instance, dry_state and dry_finish. The state is carried in
+// hi + lo words as under RK4: an accepted step's increment h Σ b_j k_j is added with Kahan
+// compensation.
 
 // Dormand & Prince (1980), as in Hairer, Nørsett & Wanner, Solving ODEs I (DOPRI5).
 var<private> DP_C: array<f32, 7> = array<f32, 7>(0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0);

@@ -1,8 +1,8 @@
 // Along an accepted Dormand–Prince step (`shaders/adaptive.wgsl`, the mirror of
 // src/simulate/adaptive.rs): the quantities whose extremes are observed between step ends and
 // the parabola through them, the relief valve's and the TVS's switching functions, their root
-// on the dense output, and the first step after a switch. Change one, change both;
-// tests/gpu_parity.rs checks.
+// on the dense output, and the first step after a switch or a phase start. Change one, change
+// both; tests/gpu_parity.rs checks.
 
 /// The quantities whose extremes are observed between step ends (adaptive::observe_probe):
 /// pressure, −pressure, −cavitation margin, |slosh angle|, |slosh force|. The margin counts only
@@ -55,9 +55,9 @@ fn any_switch(kind: u32, p_u: f32, open: bool) -> f32 {
 
 /// The step fraction in [lo.x, hi.x] where switching function `kind` crosses zero, g(lo) < 0 ≤
 /// g(hi): Illinois regula falsi on the dense output (adaptive::locate), to f32's resolution,
-/// then the root's check: it is a switch only where the pressure is within 1e-3 of `band_pa`
-/// (the crack or the TVS's upper pressure) of the band's end. A root at or after `before` is not
-/// checked (an earlier switch cuts the step). Returns the root, or 2.0 for none. One
+/// then the root's check: it is a switch only where |g| ≤ 1e-3 `band_pa` there (`band_pa` the
+/// crack or the TVS's upper pressure). A root at or after `before` is discarded unchecked (an
+/// earlier switch cuts the step). Returns the root, or 2.0 for none. One
 /// `derive_state` call site for the iterations and the check: NIR inlines every call.
 fn dp_locate(hi_s: ptr<function, St>, ph: GpuPhase, t0: f32, h: f32, lo_in: vec2<f32>, hi_in: vec2<f32>, open: bool, kind: u32, before: f32, band_pa: f32, r: ptr<function, GpuResult>) -> f32 {
     var lo = lo_in;

@@ -65,7 +65,7 @@ pub fn kernel_source(integrator: Integrator, layered: bool) -> String {
         include_str!("../../shaders/rhs.wgsl").to_string(),
         column.to_string(),
         include_str!("../../shaders/observe.wgsl").to_string(),
-        stepping.to_string(),
+        stepping,
     ]
     .join("\n");
     if layered {
