@@ -60,6 +60,12 @@ pub struct Drive<T: Real = f64> {
     /// The thermodynamic vent system runs (hysteresis state, updated between steps; used only
     /// with `[tvs]`).
     pub tvs_on: T::Mask,
+    /// Nothing reads this evaluation's slosh modes ([`Derived::slosh`]) and the phase has no
+    /// lateral excitation: an integrator's stage or step end with no history row. Where every
+    /// lane says so and every lane's analog is at rest, [`motion`] leaves the modes out
+    /// ([`SloshParams::at_rest`]); the rates are the same bits either way. False (the modes
+    /// evaluated) in [`Drive::of_phase`] and by default.
+    pub slosh_modes_unread: T::Mask,
 }
 
 /// The switched devices' states, held over a step and updated between steps: the relief valve
@@ -89,6 +95,7 @@ impl Drive {
             space: phase.environment == flight::Environment::Space,
             mixing: phase.mixer,
             tvs_on: sw.tvs && phase.tvs,
+            slosh_modes_unread: false,
         }
     }
 }
@@ -113,6 +120,7 @@ impl<T: Real> Drive<T> {
             space: T::Mask::from_fn(|i| d[i].space),
             mixing: T::Mask::from_fn(|i| d[i].mixing),
             tvs_on: T::Mask::from_fn(|i| d[i].tvs_on),
+            slosh_modes_unread: T::Mask::from_fn(|i| d[i].slosh_modes_unread),
         }
     }
 
@@ -131,6 +139,7 @@ impl<T: Real> Drive<T> {
             space: self.space.lane(i),
             mixing: self.mixing.lane(i),
             tvs_on: self.tvs_on.lane(i),
+            slosh_modes_unread: self.slosh_modes_unread.lane(i),
         }
     }
 }
@@ -212,6 +221,19 @@ impl<T: Real> UllageVapor<T> {
 }
 
 impl<T: Real> SloshParams<T> {
+    /// What [`motion`] gives in place of the modes where they are not read and the analog is at
+    /// rest: no modal mass, unit lengths, no frequency or damping. Finite and positive where
+    /// the rates divide, so that each slosh term is a zero of the same sign as with the modes
+    /// (an angle, a rate and a force of 0 times a finite factor; `tests/slosh_at_rest.rs`).
+    pub fn at_rest() -> SloshParams<T> {
+        SloshParams {
+            mass_kg: [c(0.0); 2],
+            length_m: [c(1.0); 2],
+            omega: [c(0.0); 2],
+            zeta: [c(0.0); 2],
+        }
+    }
+
     /// Lane `i`.
     pub fn lane(&self, i: usize) -> SloshParams {
         let pair = |v: &[T; 2]| [v[0].lane(i), v[1].lane(i)];
@@ -265,7 +287,13 @@ fn flight_state<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, m_tank: T) ->
     let mass = (dry + m_tank - other_used).max_c(1.0);
     let v = s[VEL];
     let drag_area: T = g.get(|p| p.vehicle.drag_area_m2);
-    let drag = flight::air_density(s[ALT]) * 0.5 * v * v.abs() * drag_area;
+    // At rest in every lane (a hold, a ground test) the drag is a zero of v's sign, as the
+    // product gives, without the air density's exponential.
+    let drag = if v.is(|v| v == 0.0).all() {
+        v * 0.0
+    } else {
+        flight::air_density(s[ALT]) * 0.5 * v * v.abs() * drag_area
+    };
     let a = T::select(d.flying, (d.thrust_n - drag) / mass, c(0.0));
     (
         mass,
@@ -366,15 +394,34 @@ pub fn motion<T: Real>(
     // and lateral: in a coast with a lateral push the pendulum swings at √(|a|/L), not at the
     // axial floor's frequency (issue 11: 0.000216 Hz reported, 0.0216 Hz seen).
     let a_total = (a_ax * a_ax + d.a_lat * d.a_lat).sqrt();
-    out.slosh = slosh_params(
-        g,
-        tank,
-        v_l,
-        out.m_liquid_kg,
-        out.level_m,
-        a_total,
-        nu_liquid,
-    );
+    out.slosh = if slosh_at_rest(g, s, d) {
+        SloshParams::at_rest()
+    } else {
+        slosh_params(
+            g,
+            tank,
+            v_l,
+            out.m_liquid_kg,
+            out.level_m,
+            a_total,
+            nu_liquid,
+        )
+    };
+}
+
+/// Whether the slosh modes can be left out of this evaluation: in every lane nothing reads them
+/// ([`Drive::slosh_modes_unread`]), there is no lateral acceleration and the analog's angles and
+/// rates are zero (a NaN is not). Then every slosh term of the rates is a signed zero times a
+/// finite factor, the same bits with the modes or with [`SloshParams::at_rest`], and the
+/// modes' table reads, damping correlations and square roots (a fifth of a ground-test tank's
+/// right-hand side, issue 18) are saved. An excited or swinging lane evaluates them for the group.
+fn slosh_at_rest<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> bool {
+    let zero = |v: T| v.is(|a| a == 0.0);
+    let mut rest = d.slosh_modes_unread & zero(d.a_lat) & zero(s[Q1]) & zero(s[Q1D]);
+    if g.shared().fidelity.two_mode_slosh() {
+        rest = rest & zero(s[Q2]) & zero(s[Q2D]);
+    }
+    rest.all()
 }
 
 /// [`derive_into`] at the two-node levels (`lumped`, `two_mode`), with each lane's `tank`

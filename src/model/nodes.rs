@@ -12,7 +12,7 @@ use super::thermal::{self, ConvectionProps};
 use super::Group;
 use crate::fluids::HELIUM;
 use crate::geometry::TankLanes;
-use crate::lanes::{c, math, Real};
+use crate::lanes::{c, math, Mask, Real};
 use std::f64::consts::PI;
 
 /// Interfacial and internal fluxes, for the output and the tests.
@@ -124,7 +124,15 @@ pub(super) fn gas_props<T: Real>(
     let m = x.m_vapor_kg + s[M_G];
     let y = T::select(m.gt(c(0.0)), x.m_vapor_kg / m, c(1.0));
     let t = x.t_ullage_k;
-    let ((k_v, mu_v), (k_g, mu_g)) = (f.vapor_transport(t), HELIUM.transport(t));
+    let (k_v, mu_v) = f.vapor_transport(t);
+    // An ullage without helium in every lane (self-pressurization) has y = 1 exactly: helium's
+    // properties are weighted by 0, so they are not evaluated (the same bits, a logarithm and two
+    // exponentials fewer).
+    let (k_g, mu_g) = if s[M_G].is(|m| m == 0.0).all() {
+        (c(0.0), c(0.0))
+    } else {
+        HELIUM.transport(t)
+    };
     let he = y.rsub(1.0);
     ConvectionProps {
         k: y * k_v + he * k_g,

@@ -10,7 +10,7 @@ use super::params::Fidelity;
 use super::slosh::XI;
 use super::state::*;
 use super::Group;
-use crate::lanes::{c, Real};
+use crate::lanes::{c, Mask, Real};
 
 /// The waves that stir the liquid, per mode: (c_mix |x_n| |ẋ_n|, m²/s; ξ_n / R, 1/m; ξ_n the roots
 /// of J₁′, [`XI`]: the mode's amplitude and velocity decay with depth d as e^(−ξ_n d / R),
@@ -36,10 +36,14 @@ pub fn waves<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> [(T, T); 2]
 }
 
 /// The eddy diffusivity D = Σ_n c_mix |x_n| |ẋ_n| e^(−2 ξ_n d / R) at `depth_m` (≥ 0) below the
-/// surface, m²/s.
+/// surface, m²/s. A mode calm in every lane (amplitude 0: a tank that does not slosh) adds
+/// nothing and its `exp` is not taken (the same bits: 0 times a factor in (0, 1] is 0).
 pub fn eddy_diffusivity<T: Real>(waves: &[(T, T); 2], depth_m: T) -> T {
     let mut eddy = c::<T>(0.0);
     for &(amplitude, decay) in waves {
+        if amplitude.is(|a| a == 0.0).all() {
+            continue;
+        }
         eddy += amplitude * (depth_m * decay * -2.0).exp();
     }
     eddy

@@ -18,7 +18,7 @@ pub use qoi::{
 use crate::campaign::{Campaign, Integrator};
 use crate::lanes::{Lanes, Mask, Real, WIDTH};
 use crate::model::derive::{mode2_angle, slosh_angle, Derived, Drive, Switches};
-use crate::model::flight::{Phase, G0};
+use crate::model::flight::{Excitation, Phase, G0};
 use crate::model::params::{Fidelity, Params};
 use crate::model::state::{self, *};
 use crate::model::{self, Evaluation, Group};
@@ -334,6 +334,8 @@ struct LaneRun<'a> {
     events: Option<EventLog>,
     /// Cavitation margin at the last observation, m (None: the engine did not draw).
     margin_prev: Option<f64>,
+    /// This lane's evaluations feed history rows, which report the slosh modes.
+    records_history: bool,
 }
 
 impl<'a> LaneRun<'a> {
@@ -398,11 +400,14 @@ impl<'a> LaneRun<'a> {
             margin_prev: d0
                 .burning
                 .then(|| cavitation_margin(p, &s0, &ev0.derived).0),
+            records_history: false,
         }
     }
 
-    /// The history's first row: this lane at t = 0.
-    fn history_start(&self, h: &mut History) {
+    /// The history's first row: this lane at t = 0. From here on its evaluations carry the slosh
+    /// modes, which the rows report ([`Drive::slosh_modes_unread`]).
+    fn history_start(&mut self, h: &mut History) {
+        self.records_history = true;
         h.push(
             row(self.params, 0.0, &self.s0, &self.last, &self.drive(0.0)),
             &self.phase().name,
@@ -414,9 +419,15 @@ impl<'a> LaneRun<'a> {
         &self.campaign.phases[self.phase]
     }
 
-    /// The trajectory of this lane at time `t` of its current phase.
+    /// The trajectory of this lane at time `t` of its current phase. The slosh modes are unread
+    /// where the phase has no lateral excitation and no history row is recorded: the only other
+    /// reader, the adaptive step's bound, reads them only in an excited phase or while the
+    /// analog swings, and then the right-hand side evaluates them (`model::derive::motion`).
     fn drive(&self, t: f64) -> Drive {
-        Drive::of_phase(self.phase(), t, self.switches())
+        let phase = self.phase();
+        let mut d = Drive::of_phase(phase, t, self.switches());
+        d.slosh_modes_unread = !self.records_history && phase.excitation == Excitation::None;
+        d
     }
 
     /// The switched devices' states now.
@@ -752,6 +763,16 @@ impl<'a> LaneRun<'a> {
         self.record(self.t, EventKind::PhaseEnd, pressure, f64::NAN);
         let (s, x) = (&self.last_state, &self.last.derived);
         self.tracker.close_phase(self.params, s, x.m_vapor_kg);
+        // An excited phase bounds its first adaptive step by the last evaluation's slosh
+        // frequency (`adaptive`, `max_step`); that evaluation left the modes out if this phase
+        // did and the analog rested, so they are evaluated now at the same state and drive.
+        let next_excited = self.campaign.phases[self.phase + 1].excitation != Excitation::None;
+        let mut d = self.drive(self.t - self.phase_start_s);
+        if next_excited && d.slosh_modes_unread {
+            d.slosh_modes_unread = false;
+            let ev = model::evaluate(Group::one(self.params), &self.last_state, &d, self.dt);
+            self.last.derived.slosh = ev.derived.slosh;
+        }
         self.phase += 1;
         let name = &self.campaign.phases[self.phase].name;
         self.tracker.enter_phase(name, self.params, s, &self.last);
@@ -804,7 +825,8 @@ fn integrate<T: Real>(
         Integrator::Rk4 => {
             assert_eq!(members.len(), T::LANES, "one member per lane");
             let params: Vec<Params> = members.iter().map(|m| *m.1).collect();
-            let lanes: Vec<LaneRun> = members.iter().map(|&(c, p)| LaneRun::start(c, p)).collect();
+            let mut lanes: Vec<LaneRun> =
+                members.iter().map(|&(c, p)| LaneRun::start(c, p)).collect();
             if let Some(h) = history.as_deref_mut() {
                 lanes[0].history_start(h);
             }
