@@ -4,7 +4,7 @@
 //! never entered are nulls in instances.parquet; phase names are unique column suffixes.
 
 mod common;
-use common::{campaign_path, load, mixture_du_dt, CAMPAIGNS, LEVELS};
+use common::{campaign_path, each_campaign_level_integrator, mixture_du_dt};
 use cryoslosh::campaign::Campaign;
 use cryoslosh::montecarlo::table;
 use cryoslosh::simulate::{simulate, History, Summary};
@@ -70,25 +70,10 @@ fn check_phases_against_mission(what: &str, q: &Summary, n_phases: usize) {
 
 #[test]
 fn phase_amounts_add_up_to_the_mission_and_extremes_bound_it() {
-    for name in CAMPAIGNS {
-        for level in LEVELS {
-            for integrator in ["rk4", "dopri5"] {
-                let c = load(
-                    name,
-                    &[
-                        &format!("campaign.fidelity={level}"),
-                        &format!("campaign.integrator={integrator}"),
-                    ],
-                );
-                let q = simulate(&c, &c.params, None);
-                check_phases_against_mission(
-                    &format!("{name}/{level}/{integrator}"),
-                    &q,
-                    c.phases.len(),
-                );
-            }
-        }
-    }
+    each_campaign_level_integrator(&[], |what, c| {
+        let q = simulate(&c, &c.params, None);
+        check_phases_against_mission(what, &q, c.phases.len());
+    });
 }
 
 /// A closed homogeneous LN2 sphere held in two phases: each phase's pressure rise is the

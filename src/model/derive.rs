@@ -287,10 +287,10 @@ fn flight_state<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, m_tank: T) ->
     let mass = (dry + m_tank - other_used).max_c(1.0);
     let v = s[VEL];
     let drag_area: T = g.get(|p| p.vehicle.drag_area_m2);
-    // At rest in every lane (a hold, a ground test) the drag is a zero of v's sign, as the
-    // product gives, without the air density's exponential.
+    // At rest in every lane (a hold, a ground test) v |v| = 0: the same signed zero as the
+    // product with the air density, without its exponential.
     let drag = if v.is(|v| v == 0.0).all() {
-        v * 0.0
+        v * v.abs() * drag_area
     } else {
         flight::air_density(s[ALT]) * 0.5 * v * v.abs() * drag_area
     };

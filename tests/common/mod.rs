@@ -38,6 +38,22 @@ pub fn load(name: &str, overrides: &[&str]) -> Campaign {
     Campaign::load(&campaign_path(name), &sets).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
+/// Every shipped campaign at every level under both integrators, loaded with `overrides` after
+/// the level and integrator: `f("name/level/integrator", campaign)`.
+pub fn each_campaign_level_integrator(overrides: &[&str], mut f: impl FnMut(&str, Campaign)) {
+    for name in CAMPAIGNS {
+        for level in LEVELS {
+            for integrator in ["rk4", "dopri5"] {
+                let level_set = format!("campaign.fidelity={level}");
+                let integrator_set = format!("campaign.integrator={integrator}");
+                let mut sets = vec![level_set.as_str(), integrator_set.as_str()];
+                sets.extend_from_slice(overrides);
+                f(&format!("{name}/{level}/{integrator}"), load(name, &sets));
+            }
+        }
+    }
+}
+
 /// Path of a validation CSV in ../shared/validation, if the shared folder is beside the repo.
 pub fn validation_csv(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
