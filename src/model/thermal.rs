@@ -4,7 +4,7 @@
 //! Correlations are smooth in their arguments (no regime switches) so that the fixed-step
 //! integrator and the f32 GPU mirror see the same continuous right-hand side.
 
-use crate::lanes::{c, Real};
+use crate::lanes::{c, Mask, Real};
 use std::f64::consts::PI;
 
 /// Fluid properties a convection correlation needs, SI.
@@ -73,7 +73,15 @@ pub fn h_unstable_interface<T: Real>(
 ) -> T {
     let length = length_m.max_c(1.0e-3);
     let (ra, _) = rayleigh(p, accel, dt_unstable_k.max_c(0.0), length);
-    (ra.ln() * (1.0 / 3.0)).exp() * 0.15 * p.k / length
+    // A stable pair has Ra = 0, and Ra^(1/3) = e^(ln 0 / 3) = e^(−∞) = +0 exactly
+    // (`lanes::math`): where every lane has Ra = 0 the two kernels are left out, the same bits
+    // (the usual case: a warm layer over the bulk, or a column stratified stably).
+    let cube_root = if ra.is(|r| r == 0.0).all() {
+        c(0.0)
+    } else {
+        (ra.ln() * (1.0 / 3.0)).exp()
+    };
+    cube_root * 0.15 * p.k / length
 }
 
 /// Order of the stiff blend ([`stiff_blend`]): it changes the rate of a mode the step resolves by
@@ -234,5 +242,57 @@ mod tests {
                 nu * nu * k
             );
         }
+    }
+
+    /// The stable pair's shortcut in [`h_unstable_interface`] is the kernels' own value: where
+    /// Ra = 0 (ΔT ≤ 0 or no acceleration), e^(ln Ra / 3) is +0, so leaving the two kernels out
+    /// moves no bit; a lane group with one unstable lane still evaluates them, and each lane
+    /// equals its one-lane value.
+    #[test]
+    fn unstable_interface_shortcut_moves_no_bit() {
+        use crate::lanes::{Lanes, Real, WIDTH};
+        let p = ConvectionProps {
+            k: 0.1,
+            mu: 1.3e-5,
+            rho: 70.0,
+            cp: 9.7e3,
+            beta: 0.016,
+        };
+        let formula = |accel: f64, dt: f64, length: f64| {
+            let length = length.max(1.0e-3);
+            let (ra, _) = rayleigh(&p, accel, dt.max(0.0), length);
+            // The engine's kernels, not std's (an f64 method call would take the inherent one).
+            crate::lanes::math::exp(crate::lanes::math::ln(ra) * (1.0 / 3.0)) * 0.15 * p.k / length
+        };
+        for &(accel, dt) in &[
+            (9.81, -2.0),
+            (9.81, 0.0),
+            (9.81, -0.0),
+            (0.0, 3.0),
+            (-1e-3, 1.5),
+        ] {
+            let h = h_unstable_interface(&p, accel, dt, 0.8);
+            assert_eq!(
+                h.to_bits(),
+                formula(accel, dt, 0.8).to_bits(),
+                "{accel} {dt}"
+            );
+            assert_eq!(h.to_bits(), 0.0_f64.to_bits());
+        }
+        // One unstable lane among stable ones: the group takes the kernels, every lane as alone.
+        let dt = Lanes::from_fn(|i| if i == 3 { 0.25 } else { -(i as f64) });
+        let lanes = ConvectionProps {
+            k: c::<Lanes>(p.k),
+            mu: c(p.mu),
+            rho: c(p.rho),
+            cp: c(p.cp),
+            beta: c(p.beta),
+        };
+        let h = h_unstable_interface(&lanes, c(9.81), dt, c(0.8));
+        for i in 0..WIDTH {
+            let alone = h_unstable_interface(&p, 9.81, dt.lane(i), 0.8);
+            assert_eq!(h.lane(i).to_bits(), alone.to_bits(), "lane {i}");
+        }
+        assert!(h.lane(3) > 0.0);
     }
 }
