@@ -607,7 +607,7 @@ fn cap_fraction<T: Real>(q: T) -> (T, usize) {
     while rounds < 100 && !done.all() {
         rounds += 1;
         let f = t * t * t.rsub(3.0) - q;
-        let moving = !done & !f.is(|a| a == 0.0);
+        let moving = !done & !f.is_zero();
         hi = T::select(moving & f.gt(T::splat(0.0)), t, hi);
         lo = T::select(moving & f.lt(T::splat(0.0)), t, lo);
         let fp = t * 3.0 * t.rsub(2.0);

@@ -529,7 +529,7 @@ impl FluidProps {
                 break;
             }
             let f = self.h_l_above(x, base) - h;
-            let zero = f.is(|a| a == 0.0);
+            let zero = f.is_zero();
             let moving = !done & !zero;
             hi = T::select(moving & f.gt(T::splat(0.0)), x, hi);
             lo = T::select(moving & f.lt(T::splat(0.0)), x, lo);

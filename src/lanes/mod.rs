@@ -109,6 +109,12 @@ pub trait Real:
     fn is(self, f: impl Fn(f64) -> bool) -> Self::Mask {
         self.test(self, |a, _| f(a))
     }
+    /// Lanes equal to zero (+0 or −0; a NaN is not): where a term is a product with such a
+    /// factor in every lane, the model may leave the other factor out for the same bits.
+    #[inline(always)]
+    fn is_zero(self) -> Self::Mask {
+        self.is(|a| a == 0.0)
+    }
     /// [`f64::max`].
     #[inline(always)]
     fn max(self, o: Self) -> Self {

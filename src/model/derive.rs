@@ -289,7 +289,7 @@ fn flight_state<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>, m_tank: T) ->
     let drag_area: T = g.get(|p| p.vehicle.drag_area_m2);
     // At rest in every lane (a hold, a ground test) v |v| = 0: the same signed zero as the
     // product with the air density, without its exponential.
-    let drag = if v.is(|v| v == 0.0).all() {
+    let drag = if v.is_zero().all() {
         v * v.abs() * drag_area
     } else {
         flight::air_density(s[ALT]) * 0.5 * v * v.abs() * drag_area
@@ -416,10 +416,9 @@ pub fn motion<T: Real>(
 /// modes' table reads, damping correlations and square roots (a fifth of a ground-test tank's
 /// right-hand side, issue 18) are saved. An excited or swinging lane evaluates them for the group.
 fn slosh_at_rest<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> bool {
-    let zero = |v: T| v.is(|a| a == 0.0);
-    let mut rest = d.slosh_modes_unread & zero(d.a_lat) & zero(s[Q1]) & zero(s[Q1D]);
+    let mut rest = d.slosh_modes_unread & d.a_lat.is_zero() & s[Q1].is_zero() & s[Q1D].is_zero();
     if g.shared().fidelity.two_mode_slosh() {
-        rest = rest & zero(s[Q2]) & zero(s[Q2D]);
+        rest = rest & s[Q2].is_zero() & s[Q2D].is_zero();
     }
     rest.all()
 }

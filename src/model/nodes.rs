@@ -128,7 +128,7 @@ pub(super) fn gas_props<T: Real>(
     // An ullage without helium in every lane (self-pressurization) has y = 1 exactly: helium's
     // properties are weighted by 0, so they are not evaluated (the same bits, a logarithm and two
     // exponentials fewer).
-    let (k_g, mu_g) = if s[M_G].is(|m| m == 0.0).all() {
+    let (k_g, mu_g) = if s[M_G].is_zero().all() {
         (c(0.0), c(0.0))
     } else {
         HELIUM.transport(t)

@@ -76,7 +76,7 @@ pub fn h_unstable_interface<T: Real>(
     // A stable pair has Ra = 0, and Ra^(1/3) = e^(ln 0 / 3) = e^(−∞) = +0 exactly
     // (`lanes::math`): where every lane has Ra = 0 the two kernels are left out, the same bits
     // (the usual case: a warm layer over the bulk, or a column stratified stably).
-    let cube_root = if ra.is(|r| r == 0.0).all() {
+    let cube_root = if ra.is_zero().all() {
         c(0.0)
     } else {
         (ra.ln() * (1.0 / 3.0)).exp()

@@ -41,7 +41,7 @@ pub fn waves<T: Real>(g: Group<'_>, s: &State<T>, x: &Derived<T>) -> [(T, T); 2]
 pub fn eddy_diffusivity<T: Real>(waves: &[(T, T); 2], depth_m: T) -> T {
     let mut eddy = c::<T>(0.0);
     for &(amplitude, decay) in waves {
-        if amplitude.is(|a| a == 0.0).all() {
+        if amplitude.is_zero().all() {
             continue;
         }
         eddy += amplitude * (depth_m * decay * -2.0).exp();
