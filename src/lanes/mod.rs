@@ -109,8 +109,9 @@ pub trait Real:
     fn is(self, f: impl Fn(f64) -> bool) -> Self::Mask {
         self.test(self, |a, _| f(a))
     }
-    /// Lanes equal to zero (+0 or −0; a NaN is not): where a term is a product with such a
-    /// factor in every lane, the model may leave the other factor out for the same bits.
+    /// Lanes equal to zero (+0 or −0; a NaN is not). Where a term is a product with such a
+    /// factor in every lane, the model may leave out another factor that is finite there (0 · ∞
+    /// and 0 · NaN are NaN), provided the zero keeps the sign the full product would have.
     #[inline(always)]
     fn is_zero(self) -> Self::Mask {
         self.is(|a| a == 0.0)

@@ -245,9 +245,10 @@ mod tests {
     }
 
     /// The stable pair's shortcut in [`h_unstable_interface`] is the kernels' own value: where
-    /// Ra = 0 (ΔT ≤ 0 or no acceleration), e^(ln Ra / 3) is +0, so leaving the two kernels out
-    /// moves no bit; a lane group with one unstable lane still evaluates them, and each lane
-    /// equals its one-lane value.
+    /// Ra = ±0 (ΔT ≤ 0; the model floors the acceleration at 1e-6 m/s², so a zero or negative
+    /// one is a guard here), e^(ln Ra / 3) is +0, so leaving the two kernels out moves no bit;
+    /// the shortcut is taken (no kernel call counted), a stable lane group gives +0 in every lane,
+    /// and a group with one unstable lane evaluates them, each lane as alone.
     #[test]
     fn unstable_interface_shortcut_moves_no_bit() {
         use crate::lanes::{Lanes, Real, WIDTH};
@@ -294,5 +295,36 @@ mod tests {
             assert_eq!(h.lane(i).to_bits(), alone.to_bits(), "lane {i}");
         }
         assert!(h.lane(3) > 0.0);
+        // An all-stable group takes the shortcut: +0 in every lane.
+        let stable = h_unstable_interface(&lanes, c(9.81), Lanes::from_fn(|i| -(i as f64)), c(0.8));
+        assert!((0..WIDTH).all(|i| stable.lane(i).to_bits() == 0));
+        // Ra = −0 (a negative c_p at ΔT = 0): the kernels give +0 too.
+        let negative = ConvectionProps { cp: -p.cp, ..p };
+        let (ra, _) = rayleigh(&negative, 9.81, 0.0, 0.8);
+        assert_eq!(ra.to_bits(), (-0.0_f64).to_bits());
+        let h = h_unstable_interface(&negative, 9.81, 0.0, 0.8);
+        let kernels =
+            crate::lanes::math::exp(crate::lanes::math::ln(ra) * (1.0 / 3.0)) * 0.15 * p.k / 0.8;
+        assert_eq!((h.to_bits(), kernels.to_bits()), (0, 0));
+        // The shortcut is taken: no `ln` or `exp` is counted for a stable pair, one each for an
+        // unstable one.
+        use crate::lanes::count::{take, Counted};
+        let counted = ConvectionProps {
+            k: Counted(p.k),
+            mu: Counted(p.mu),
+            rho: Counted(p.rho),
+            cp: Counted(p.cp),
+            beta: Counted(p.beta),
+        };
+        for (dt, kernels) in [(-1.0, 0), (1.0, 1)] {
+            take();
+            let h = h_unstable_interface(&counted, Counted(9.81), Counted(dt), Counted(0.8));
+            let n = take();
+            assert_eq!((n.ln, n.exp), (kernels, kernels), "ΔT {dt}");
+            assert_eq!(
+                h.0.to_bits(),
+                h_unstable_interface(&p, 9.81, dt, 0.8).to_bits()
+            );
+        }
     }
 }
