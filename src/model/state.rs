@@ -136,14 +136,31 @@ pub fn initial_vapor_pressure_pa(p: &Params) -> f64 {
 }
 
 /// Default helium partial pressure, Pa: the ullage pressure `p_ullage_pa` less the vapour
-/// saturated at the liquid temperature `t_liquid_k` (at most the whole pressure).
+/// saturated at the liquid temperature `t_liquid_k` (at most the whole pressure), and exactly 0
+/// where that difference is below [`SATURATED_RESIDUE`] of the pressure. A liquid saturated at
+/// the ullage pressure (`propellant.temperature_k` omitted, T_l = T_sat(P_u)) gives
+/// P_sat(T_l) = P_u to a few ulps, not exactly (MHTB at 111.5 kPa: 2.9e-11 Pa short), and that
+/// residue would otherwise start the tank with about 1e-15 kg of helium it was never given.
 pub fn default_helium_pressure_pa(fluid: Fluid, p_ullage_pa: f64, t_liquid_k: f64) -> f64 {
-    p_ullage_pa - fluid.props().psat_pa(t_liquid_k).min(p_ullage_pa)
+    let rest = p_ullage_pa - fluid.props().psat_pa(t_liquid_k).min(p_ullage_pa);
+    if rest <= SATURATED_RESIDUE * p_ullage_pa {
+        0.0
+    } else {
+        rest
+    }
 }
 
+/// Share of the ullage pressure below which [`default_helium_pressure_pa`]'s difference
+/// P_u − P_sat(T_l) is the property fits' round trip P_sat(T_sat(P)), not helium: that round
+/// trip is good to a few ulps (2.6e-16 relative at MHTB's 111.5 kPa), and a helium partial
+/// pressure of 1e-13 P_u changes nothing physical. Below the 1e-12 by which the composition
+/// check lets vapour exceed P_sat(T_u), so that the vapour at P_u it leaves always passes.
+pub const SATURATED_RESIDUE: f64 = 1.0e-13;
+
 /// Vapour partial pressure P_u − P_He, Pa, for ullage pressure `p_ullage_pa` and helium partial
-/// pressure `p_helium_pa`. For the default helium it is min(P_sat(T_l), P_u) itself, not
-/// P_u − (P_u − P_sat) rounded, so that the default composition is today's to the bit.
+/// pressure `p_helium_pa`. For a default helium above the round-trip residue it is
+/// min(P_sat(T_l), P_u) itself, not P_u − (P_u − P_sat) rounded; a saturated liquid's ullage
+/// (no helium) is vapour at P_u.
 pub fn vapor_partial_pressure_pa(
     fluid: Fluid,
     p_ullage_pa: f64,
