@@ -312,7 +312,8 @@ pub fn describe(c: &Campaign) -> String {
             "Pa"
         ),
     );
-    // Without helium the difference is rounding noise of the pressure (1e-11 Pa): shown as 0.
+    // P_u − P_v, shown as 0 where it is rounding noise of the pressure (an ullage without helium
+    // reads 0 exactly; the filter keeps any state whose sum rounds off a few ulps from showing it).
     let helium_pa = x.p_ullage_pa - x.p_vapor_pa;
     let helium_pa = if helium_pa.abs() < 1.0e-9 * x.p_ullage_pa {
         0.0

@@ -177,8 +177,10 @@ pub fn vapor_partial_pressure_pa(
 
 /// Default initial layer temperature, K: saturation at the initial vapour partial pressure
 /// `p_vapor_pa`, clamped to the fluid's range. Exactly the liquid temperature `t_liquid_k` when
-/// the vapour is saturated at it (the default composition), so that campaigns which set none of
-/// the new keys start as before, to the bit.
+/// the vapour is saturated at it (the default composition over a subcooled liquid). A liquid
+/// saturated at the ullage pressure has no default helium ([`SATURATED_RESIDUE`]) and vapour at
+/// P_u: its layer is T_sat(P_u), the liquid temperature itself where that was defaulted (the
+/// campaign's T_l is the same `tsat_k` call).
 pub fn default_layer_temperature_k(fluid: Fluid, t_liquid_k: f64, p_vapor_pa: f64) -> f64 {
     let f = fluid.props();
     if p_vapor_pa == f.psat_pa(t_liquid_k) {
