@@ -770,8 +770,8 @@ impl<'a> LaneRun<'a> {
         let mut d = self.drive(self.t - self.phase_start_s);
         if next_excited && d.slosh_modes_unread {
             d.slosh_modes_unread = false;
-            let ev = model::evaluate(Group::one(self.params), &self.last_state, &d, self.dt);
-            self.last.derived.slosh = ev.derived.slosh;
+            let x = model::derive::derive(Group::one(self.params), &self.last_state, &d);
+            self.last.derived.slosh = x.slosh;
         }
         self.phase += 1;
         let name = &self.campaign.phases[self.phase].name;
