@@ -502,10 +502,19 @@ impl<T: Real> TankLanes<T> {
     /// directly for oblate domes and as `√(a² + |e| w (2a − w))` (using
     /// `c² + e a² = a²`) for prolate ones.
     fn zone_integrand(&self, w: T) -> T {
-        let s = self.a - w;
-        let oblate = (self.c * self.c + self.e * s * s).sqrt();
+        let oblate_lanes = self.e.ge(T::splat(0.0));
+        // Each form only where some lane's dome has it (a square root each).
+        let oblate = if oblate_lanes.any() {
+            let s = self.a - w;
+            (self.c * self.c + self.e * s * s).sqrt()
+        } else {
+            T::splat(0.0)
+        };
+        if oblate_lanes.all() {
+            return oblate;
+        }
         let prolate = (self.a * self.a - self.e * w * (self.a * 2.0 - w)).sqrt();
-        T::select(self.e.ge(T::splat(0.0)), oblate, prolate)
+        T::select(oblate_lanes, oblate, prolate)
     }
 
     /// Wall area (m²) of a dome zone of depth `w` (m) measured from the pole.
@@ -530,7 +539,12 @@ impl<T: Real> TankLanes<T> {
         let d = self.e.abs().sqrt() * ds2 / cross;
         let series = d.lt(T::splat(SERIES_LIMIT));
         let oblate = self.e.gt(T::splat(0.0));
-        let mut g = T::select(oblate, asinh_over_x(d), asin_over_x(d));
+        // asinh's logarithm and divides only where some lane's dome is oblate.
+        let mut g = if oblate.any() {
+            T::select(oblate, asinh_over_x(d), asin_over_x(d))
+        } else {
+            asin_over_x(d)
+        };
         let steep = !oblate & !series;
         if steep.any() {
             // asin(D) is ill-conditioned as D → 1 (very prolate domes); use
@@ -591,16 +605,23 @@ fn cap_fraction<T: Real>(q: T) -> (T, usize) {
     let full = q.ge(T::splat(2.0));
     let mut lo = (q / 3.0).sqrt();
     let mut hi = (q / 2.0).sqrt().min_c(1.0);
+    // Each start only where some lane takes it (its divides and square roots are most of the
+    // start's cost; a capsule's top dome is all high fill).
+    let low = q.lt(T::splat(CAP_START_SPLIT));
     let mut low_start = lo;
-    for _ in 0..2 {
-        low_start = (q / low_start.rsub(3.0)).sqrt();
+    if low.any() {
+        for _ in 0..2 {
+            low_start = (q / low_start.rsub(3.0)).sqrt();
+        }
     }
     let r = q.rsub(2.0);
     let mut y = r * (1.0 / 3.0);
-    for _ in 0..2 {
-        y = (r + y * y * y) * (1.0 / 3.0);
+    if !low.all() {
+        for _ in 0..2 {
+            y = (r + y * y * y) * (1.0 / 3.0);
+        }
     }
-    let guess = T::select(q.lt(T::splat(CAP_START_SPLIT)), low_start, y.rsub(1.0));
+    let guess = T::select(low, low_start, y.rsub(1.0));
     let mut t = T::select(guess.gt(lo) & guess.lt(hi), guess, (lo + hi) * 0.5);
     let mut done = empty | full;
     let mut rounds = 0;
@@ -626,7 +647,67 @@ fn cap_fraction<T: Real>(q: T) -> (T, usize) {
 
 #[cfg(test)]
 mod tests {
-    use super::cap_fraction;
+    use super::{cap_fraction, Shape, Tank, TankLanes};
+    use crate::lanes::{Lanes, Real, WIDTH};
+
+    /// The skipped branches (the cap solve's unused start, the dome form no lane has, asinh for
+    /// prolate domes only) move no bit: lane groups mixing fills on either side of the start's
+    /// split, and oblate, spherical and prolate domes, give every lane what the tank gives alone,
+    /// and so do groups all on one side.
+    #[test]
+    fn lanes_skip_only_what_no_lane_takes() {
+        let ratios = [0.3, 0.5, 0.75, 1.0, 1.4, 2.5];
+        let tanks: Vec<Tank> = (0..WIDTH)
+            .map(|i| {
+                Tank::new(
+                    Shape::Capsule,
+                    1.0 + 0.1 * i as f64,
+                    1.3,
+                    ratios[i % ratios.len()],
+                )
+            })
+            .collect();
+        // Which tank each lane takes: every shape mixed, oblate domes only, prolate only.
+        type Pick = fn(usize) -> usize;
+        let picks: [(&str, Pick); 3] = [
+            ("mixed", |i| i),
+            ("oblate", |i| i % 2),
+            ("prolate", |i| 4 + i % 2),
+        ];
+        for (name, pick) in picks {
+            let tank = |i: usize| &tanks[pick(i)];
+            let group = TankLanes::<Lanes>::gather(tank);
+            for fill in [0.02, 0.1, 0.3, 0.5, 0.7, 0.9, 0.97] {
+                // Lane i at fill ± a spread that puts lanes on both sides of the cap start split.
+                let share = |i: usize| (fill + 0.004 * (i as f64 - 8.0)).clamp(0.0, 1.0);
+                let v = Lanes::from_fn(|i| share(i) * tank(i).volume_m3());
+                let z = group.liquid_height_m(v);
+                let wet = group.wetted_area_m2(z);
+                let slope = group.wetted_area_slope_m(z);
+                for i in 0..WIDTH {
+                    let alone = tank(i);
+                    let z_i = alone.liquid_height_m(v.lane(i));
+                    assert_eq!(z.lane(i).to_bits(), z_i.to_bits(), "{name} {fill} lane {i}");
+                    let w = alone.wetted_area_m2(z_i);
+                    assert_eq!(wet.lane(i).to_bits(), w.to_bits(), "{name} {fill} lane {i}");
+                    let sl = alone.wetted_area_slope_m(z_i);
+                    assert_eq!(
+                        slope.lane(i).to_bits(),
+                        sl.to_bits(),
+                        "{name} {fill} lane {i}"
+                    );
+                }
+            }
+        }
+        // The cap solve on a group on either side of the split and across it.
+        for qs in [[0.3, 0.79], [0.81, 1.9], [0.1, 1.99]] {
+            let q = Lanes::from_fn(|i| qs[0] + (qs[1] - qs[0]) * i as f64 / (WIDTH - 1) as f64);
+            let (t, _) = cap_fraction(q);
+            for i in 0..WIDTH {
+                assert_eq!(t.lane(i).to_bits(), cap_fraction(q.lane(i)).0.to_bits());
+            }
+        }
+    }
 
     /// The start is within 8e-4 of the root, so Newton converges in at most four steps for every
     /// fill, the last confirming (a bisection fallback once took up to 48).
