@@ -375,14 +375,17 @@ pub fn fill_level<T: Real>(g: Group<'_>, tank: &TankLanes<T>, out: &mut Derived<
     (out.wetted_share, out.wetted_share_slope) = wetted_share(tank, z);
 }
 
-/// Flight and slosh quantities shared by both thermal formulations.
+/// Flight and slosh quantities shared by both thermal formulations. `nu_liquid` gives the
+/// liquid's kinematic viscosity, m²/s, for the slosh damping: asked for only where the modes are
+/// evaluated (not for an analog at rest, [`slosh_at_rest`]: a logarithm-fit `exp` and a divide
+/// fewer).
 pub fn motion<T: Real>(
     g: Group<'_>,
     tank: &TankLanes<T>,
     s: &State<T>,
     d: &Drive<T>,
     out: &mut Derived<T>,
-    nu_liquid: T,
+    nu_liquid: impl FnOnce() -> T,
 ) {
     let m_tank = out.m_liquid_kg + s[M_V] + s[M_G];
     let (mass, drag, a_ax) = flight_state(g, s, d, m_tank);
@@ -404,7 +407,7 @@ pub fn motion<T: Real>(
             out.m_liquid_kg,
             out.level_m,
             a_total,
-            nu_liquid,
+            nu_liquid(),
         )
     };
 }
@@ -449,14 +452,14 @@ pub fn derive_nodes<T: Real>(
     out.v_bulk_m3 = s[M_B] / out.rho_bulk;
     out.m_liquid_kg = s[M_S] + s[M_B];
     let v_l = out.v_layer_m3 + out.v_bulk_m3;
-    let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
-    finish_nodes(g, tank, s, d, out, v_l, nu);
+    let (t_b, rho_b) = (out.t_bulk_k, out.rho_bulk);
+    finish_nodes(g, tank, s, d, out, v_l, move || f.mu_l_pa_s(t_b) / rho_b);
     liquid_range(out);
 }
 
 /// What the node levels (`lumped`, `two_mode`, `layered`) derive alike once their liquid is
 /// known (`out`'s liquid fields, the liquid volume `v_l` m³, its kinematic viscosity `nu` m²/s
-/// at the outlet): level, flight and slosh, the ullage's volume, temperature and pressures, and
+/// at the outlet, evaluated only where the slosh modes are): level, flight and slosh, the ullage's volume, temperature and pressures, and
 /// the walls' temperatures. `tank`: each lane's tank ([`Group::tank`]).
 pub fn finish_nodes<T: Real>(
     g: Group<'_>,
@@ -465,7 +468,7 @@ pub fn finish_nodes<T: Real>(
     d: &Drive<T>,
     out: &mut Derived<T>,
     v_l: T,
-    nu: T,
+    nu: impl FnOnce() -> T,
 ) {
     let fluid = g.shared().fluid;
     fill_level(g, tank, out, v_l);
@@ -515,7 +518,8 @@ pub fn ullage_temperature<T: Real>(
     let f = fluid.props();
     let off = vapor_energy_offset(fluid);
     let t_r = 0.5 * (f.t_min_k + f.t_max_k);
-    let (u_r, cv_r) = f.vapor_ideal(t_r);
+    // The linearisation's constants, once in f64 (the same operations each lane did on a splat).
+    let (u_r, cv_r) = f.vapor_ideal::<f64>(t_r);
     let cv_g = m_g * HELIUM.cv_j_per_kg_k;
     let mut t = (u_j - m_v * (off + u_r - cv_r * t_r)) / (m_v * cv_r + cv_g);
     let mut done = T::Mask::splat(false);

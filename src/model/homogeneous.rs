@@ -132,7 +132,7 @@ pub fn derive<T: Real>(g: Group<'_>, s: &State<T>, d: &Drive<T>) -> Derived<T> {
     let (twd, tww) = wall_temperatures(g, s, out.wetted_share);
     out.t_wall_dry_k = twd;
     out.t_wall_wet_k = tww;
-    motion(g, &tank, s, d, &mut out, f.mu_l_pa_s(t) / rho);
+    motion(g, &tank, s, d, &mut out, move || f.mu_l_pa_s(t) / rho);
     out
 }
 

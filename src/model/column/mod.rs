@@ -180,7 +180,8 @@ pub fn derive_column<T: Real>(
     out.v_bulk_m3 = v_col;
     out.t_liquid_min_k = lo;
     out.t_liquid_max_k = hi;
-    let nu = f.mu_l_pa_s(out.t_bulk_k) / out.rho_bulk;
+    let (t_b, rho_b) = (out.t_bulk_k, out.rho_bulk);
+    let nu = move || f.mu_l_pa_s(t_b) / rho_b;
     let v_l = out.v_layer_m3 + v_col;
     derive::finish_nodes(g, &g.tank(), s, d, &mut out, v_l, nu);
     out
