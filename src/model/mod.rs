@@ -98,6 +98,13 @@ impl<T: Real> Evaluation<T> {
             rates: state::lane(&self.rates, i),
         }
     }
+
+    /// [`Self::lane`] into `out`, the rates over their first `n` slots ([`state::lane_into`]).
+    pub fn lane_into(&self, i: usize, n: usize, out: &mut Evaluation) {
+        out.derived = self.derived.lane(i);
+        out.fluxes = self.fluxes.lane(i);
+        state::lane_into(&self.rates, i, n, &mut out.rates);
+    }
 }
 
 /// Evaluate the right-hand side at state `s` under drive `d`; `dt` is the integrator's step.

@@ -94,6 +94,15 @@ pub fn lane<T: crate::lanes::Real>(s: &State<T>, i: usize) -> State {
     std::array::from_fn(|j| s[j].lane(i))
 }
 
+/// [`lane`] into `out` over the first `n` slots, for a caller whose `out` is 0 past them, as
+/// are a state's slots past its level's ([`slots_used`]).
+pub fn lane_into<T: crate::lanes::Real>(s: &State<T>, i: usize, n: usize, out: &mut State) {
+    for (o, v) in out[..n].iter_mut().zip(&s[..n]) {
+        *o = v.lane(i);
+    }
+    debug_assert!(out[n..].iter().zip(&s[n..]).all(|(o, v)| *o == v.lane(i)));
+}
+
 /// Internal-energy reference of the real-gas vapour (MODEL.md §4, consistent references):
 /// u_v(T, ρ) = u⁰(T) + offset + u_res(T, ρ) (`fluids::vapor`), the offset chosen so that the
 /// saturated vapour's enthalpy u_v + P_sat/ρ_v exceeds h_l by h_fg at the normal boiling point

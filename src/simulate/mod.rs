@@ -686,10 +686,13 @@ impl<'a> LaneRun<'a> {
     /// Book-keeping after a step to state `merged_state` with evaluation `merged_ev` (a bulk about
     /// to empty merges into them) under drive `d`: divergence, extremes, valve, phase change,
     /// history. Returns false when the instance diverged.
+    ///
+    /// `merged_state` and `merged_ev` are the caller's buffers, filled in place from the lane
+    /// group's (no state and evaluation built and moved by value per lane and step).
     fn after_step(
         &mut self,
-        mut merged_state: State,
-        mut merged_ev: Evaluation,
+        merged_state: &mut State,
+        merged_ev: &mut Evaluation,
         d: &Drive,
         mut history: Option<&mut History>,
     ) -> bool {
@@ -697,8 +700,8 @@ impl<'a> LaneRun<'a> {
         // From the phase start, not summed step by step: a phase of n steps ends at its
         // duration exactly (3000 sums of 0.02 s give 60.00000000000031).
         let t = self.phase_start_s + (self.k + 1) as f64 * self.dt;
-        self.merged = self.merge_bulk(&mut merged_state, &mut merged_ev, (d, t), self.dt);
-        let (s, ev) = (&merged_state, &merged_ev);
+        self.merged = self.merge_bulk(merged_state, merged_ev, (d, t), self.dt);
+        let (s, ev) = (&*merged_state, &*merged_ev);
         self.steps += 1;
         self.t = t;
         let bad = check_state(p, s, &ev.derived);
@@ -848,11 +851,20 @@ fn integrate_fixed<'a, T: Real>(
     // k1 where every lane may reuse it.
     let mut ev = Evaluation::<T>::default();
     let mut work = model::Rk4Work::default();
+    // One lane's end state and evaluation, handed to `after_step`; their slots past `n` stay 0.
+    let (mut lane_state, mut lane_ev): (State, Evaluation) = ([0.0; NS], Evaluation::default());
     let mut have_k1 = false;
     while lanes.iter().any(|l| !l.done) {
         let dt = T::from_fn(|i| lanes[i].dt);
         let tp = T::from_fn(|i| lanes[i].k as f64) * dt;
-        let drive = |tt: T| Drive::gather(|i| lanes[i].drive(tt.lane(i)));
+        // Without an excitation a lane's drive does not depend on time within its phase (the
+        // switches are held over the step): gathered once for the step's stages and its end,
+        // the same values as per stage (three gathers of every lane's drive fewer a step).
+        let steady = lanes
+            .iter()
+            .all(|l| l.phase().excitation == Excitation::None);
+        let held: Option<Drive<T>> = steady.then(|| Drive::gather(|i| lanes[i].drive(0.0)));
+        let drive = |tt: T| held.unwrap_or_else(|| Drive::gather(|i| lanes[i].drive(tt.lane(i))));
         let reuse = lanes.iter().all(|l| l.done || l.reuse);
         let k1 = (have_k1 && reuse).then_some(&ev.rates);
         let active = T::Mask::from_fn(|i| !lanes[i].done);
@@ -866,7 +878,9 @@ fn integrate_fixed<'a, T: Real>(
                 *sj = T::select(active, *nj, *sj);
             }
         }
-        let d: Drive<T> = Drive::gather(|i| lanes[i].drive((lanes[i].k + 1) as f64 * lanes[i].dt));
+        let d: Drive<T> = held.unwrap_or_else(|| {
+            Drive::gather(|i| lanes[i].drive((lanes[i].k + 1) as f64 * lanes[i].dt))
+        });
         model::evaluate_into(g, &s, &d, dt, &mut ev);
         let mut diverged = T::Mask::splat(false);
         for (i, l) in lanes.iter_mut().enumerate() {
@@ -875,7 +889,9 @@ fn integrate_fixed<'a, T: Real>(
             }
             l.evaluations += if l.reuse { 4 } else { 5 };
             let h = if i == 0 { history.as_deref_mut() } else { None };
-            if !l.after_step(state::lane(&s, i), ev.lane(i), &d.lane(i), h) {
+            state::lane_into(&s, i, n, &mut lane_state);
+            ev.lane_into(i, n, &mut lane_ev);
+            if !l.after_step(&mut lane_state, &mut lane_ev, &d.lane(i), h) {
                 diverged = diverged | T::Mask::from_fn(|j| j == i);
             }
         }
