@@ -55,6 +55,10 @@ fn h_stable_interface(p: Conv, accel: f32, dt_k: f32, length_m: f32) -> f32 {
 fn h_unstable_interface(p: Conv, accel: f32, dt_unstable_k: f32, length_m: f32) -> f32 {
     let length = max(length_m, 1.0e-3);
     let rp = rayleigh(p, accel, max(dt_unstable_k, 0.0), length);
+    // A stable pair has Ra = 0 and pow(0, 1/3) = 0 (thermal::h_unstable_interface): no pow.
+    if (rp.x == 0.0) {
+        return 0.0 * p.k / length;
+    }
     return 0.15 * pow(rp.x, 1.0 / 3.0) * p.k / length;
 }
 

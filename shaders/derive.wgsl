@@ -93,7 +93,19 @@ fn motion(s: ptr<function, St>, d: Drive, x: ptr<function, Derived>, nu_liquid: 
     (*x).a_ax = max(a + d.gravity + d.a_ax_extra, MIN_AXIAL_ACCEL);
     let v_l = (*x).v_s + (*x).v_b;
     let a_total = sqrt((*x).a_ax * (*x).a_ax + d.a_lat * d.a_lat);
-    (*x).sl = slosh_params(v_l, (*x).m_l, (*x).level, a_total, nu_liquid);
+    if (SLOSH_UNREAD && slosh_at_rest(s, d)) {
+        // derive::SloshParams::at_rest: every slosh term of the rates is then a zero of the same
+        // sign as with the modes (an angle, a rate and a force of 0 times a finite factor).
+        (*x).sl = Slosh(vec2<f32>(0.0), vec2<f32>(1.0), vec2<f32>(0.0), 0.0);
+    } else {
+        (*x).sl = slosh_params(v_l, (*x).m_l, (*x).level, a_total, nu_liquid);
+    }
+}
+
+/// The analog rests and nothing pushes it (derive::slosh_at_rest): no lateral acceleration, the
+/// angles and rates 0 (a NaN is not).
+fn slosh_at_rest(s: ptr<function, St>, d: Drive) -> bool {
+    return d.a_lat == 0.0 && (*s)[Q1] == 0.0 && (*s)[Q1D] == 0.0 && (*s)[Q2] == 0.0 && (*s)[Q2D] == 0.0;
 }
 
 /// The level carries the two-mode slosh analog (Fidelity::two_mode_slosh): two_mode, layered.

@@ -49,6 +49,11 @@ struct Drive {
 /// and saved to the result record by the kernels, read by every drive.
 var<private> TVS_ON: bool;
 
+/// Nothing reads this evaluation's slosh modes but the rates, and the phase has no lateral
+/// excitation (derive::Drive::slosh_modes_unread): set by the RK4 kernel around its stages; false
+/// (the modes evaluated) everywhere else, the adaptive kernel's step bound among them.
+var<private> SLOSH_UNREAD: bool;
+
 fn table_interp(ph: GpuPhase, col: u32, t: f32) -> f32 {
     let n = ph.table_len;
     if (n == 0u) {

@@ -80,6 +80,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var bad = vec2<f32>(0.0, 0.0);
         var th = -1.0;
         var s_dry_lo: St;
+        // The stages and the step's end read the slosh modes only through the rates (observe and
+        // slosh_validity read angles, 0 at rest): an unexcited phase may leave them out.
+        SLOSH_UNREAD = ph.excites == 0u;
         for (var stage = select(0u, 1u, have_k1); stage < 6u; stage++) {
             var y = hi;
             var at = tp;
