@@ -105,7 +105,8 @@ fn motion(s: ptr<function, St>, d: Drive, x: ptr<function, Derived>, nu_liquid: 
 /// The analog rests and nothing pushes it (derive::slosh_at_rest): no lateral acceleration, the
 /// angles and rates 0 (a NaN is not).
 fn slosh_at_rest(s: ptr<function, St>, d: Drive) -> bool {
-    return d.a_lat == 0.0 && (*s)[Q1] == 0.0 && (*s)[Q1D] == 0.0 && (*s)[Q2] == 0.0 && (*s)[Q2D] == 0.0;
+    let still = (*s)[Q1] == 0.0 && (*s)[Q1D] == 0.0 && (*s)[Q2] == 0.0 && (*s)[Q2D] == 0.0;
+    return d.a_lat == 0.0 && still;
 }
 
 /// The level carries the two-mode slosh analog (Fidelity::two_mode_slosh): two_mode, layered.

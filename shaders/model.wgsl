@@ -50,8 +50,9 @@ struct Drive {
 var<private> TVS_ON: bool;
 
 /// Nothing reads this evaluation's slosh modes but the rates, and the phase has no lateral
-/// excitation (derive::Drive::slosh_modes_unread): set by the RK4 kernel around its stages; false
-/// (the modes evaluated) everywhere else, the adaptive kernel's step bound among them.
+/// excitation (derive::Drive::slosh_modes_unread): set by the RK4 kernel for its stages and
+/// cleared after them; false (the modes evaluated) everywhere else, the adaptive kernel's step
+/// bound among them.
 var<private> SLOSH_UNREAD: bool;
 
 fn table_interp(ph: GpuPhase, col: u32, t: f32) -> f32 {

@@ -81,7 +81,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var th = -1.0;
         var s_dry_lo: St;
         // The stages and the step's end read the slosh modes only through the rates (observe and
-        // slosh_validity read angles, 0 at rest): an unexcited phase may leave them out.
+        // slosh_validity read angles and the force, zeros at rest): an unexcited phase may leave
+        // them out. Cleared after the stages.
         SLOSH_UNREAD = ph.excites == 0u;
         for (var stage = select(0u, 1u, have_k1); stage < 6u; stage++) {
             var y = hi;
@@ -154,6 +155,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
             }
         }
+        SLOSH_UNREAD = false;
         if (th >= 0.0) {
             // Ran dry: stage 5 ended the instance there, or, where the end state left the
             // model, it ends on the step's start.

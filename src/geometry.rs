@@ -651,13 +651,14 @@ mod tests {
     use crate::lanes::{Lanes, Real, WIDTH};
 
     /// The skipped branches (the cap solve's unused start, the dome form no lane has, asinh for
-    /// prolate domes only) move no bit: lane groups mixing fills on either side of the start's
-    /// split, and oblate, spherical and prolate domes, give every lane what the tank gives alone,
-    /// and so do groups all on one side.
+    /// prolate and spherical domes) move no bit: lane groups mixing fills on either side of the
+    /// start's split, and oblate, spherical and prolate domes, give every lane what the tank gives
+    /// alone, and so do groups all of one kind (spheres and k = 1 capsules, e = 0, included),
+    /// empty and full lanes among them.
     #[test]
     fn lanes_skip_only_what_no_lane_takes() {
         let ratios = [0.3, 0.5, 0.75, 1.0, 1.4, 2.5];
-        let tanks: Vec<Tank> = (0..WIDTH)
+        let mut tanks: Vec<Tank> = (0..WIDTH)
             .map(|i| {
                 Tank::new(
                     Shape::Capsule,
@@ -667,18 +668,23 @@ mod tests {
                 )
             })
             .collect();
-        // Which tank each lane takes: every shape mixed, oblate domes only, prolate only.
+        tanks.push(Tank::new(Shape::Sphere, 0.8, 0.0, 1.0));
+        tanks.push(Tank::new(Shape::Sphere, 1.7, 0.0, 1.0));
+        // Which tank each lane takes: every shape mixed, oblate domes only, prolate only,
+        // spheres and hemispherical capsules only (e = 0).
         type Pick = fn(usize) -> usize;
-        let picks: [(&str, Pick); 3] = [
+        let picks: [(&str, Pick); 4] = [
             ("mixed", |i| i),
             ("oblate", |i| i % 2),
             ("prolate", |i| 4 + i % 2),
+            ("spherical", |i| [3, WIDTH, WIDTH + 1][i % 3]),
         ];
         for (name, pick) in picks {
             let tank = |i: usize| &tanks[pick(i)];
             let group = TankLanes::<Lanes>::gather(tank);
-            for fill in [0.02, 0.1, 0.3, 0.5, 0.7, 0.9, 0.97] {
-                // Lane i at fill ± a spread that puts lanes on both sides of the cap start split.
+            for fill in [0.0, 0.02, 0.1, 0.3, 0.5, 0.7, 0.9, 0.97, 1.0] {
+                // Lane i at fill ± a spread that puts lanes on both sides of the cap start split
+                // (clamped: the first and last fills hold empty and full lanes).
                 let share = |i: usize| (fill + 0.004 * (i as f64 - 8.0)).clamp(0.0, 1.0);
                 let v = Lanes::from_fn(|i| share(i) * tank(i).volume_m3());
                 let z = group.liquid_height_m(v);

@@ -377,7 +377,7 @@ pub fn fill_level<T: Real>(g: Group<'_>, tank: &TankLanes<T>, out: &mut Derived<
 
 /// Flight and slosh quantities shared by both thermal formulations. `nu_liquid` gives the
 /// liquid's kinematic viscosity, m²/s, for the slosh damping: asked for only where the modes are
-/// evaluated (not for an analog at rest, [`slosh_at_rest`]: a logarithm-fit `exp` and a divide
+/// evaluated (not for an analog at rest, `slosh_at_rest`: a logarithm-fit `exp` and a divide
 /// fewer).
 pub fn motion<T: Real>(
     g: Group<'_>,
@@ -459,8 +459,9 @@ pub fn derive_nodes<T: Real>(
 
 /// What the node levels (`lumped`, `two_mode`, `layered`) derive alike once their liquid is
 /// known (`out`'s liquid fields, the liquid volume `v_l` m³, its kinematic viscosity `nu` m²/s
-/// at the outlet, evaluated only where the slosh modes are): level, flight and slosh, the ullage's volume, temperature and pressures, and
-/// the walls' temperatures. `tank`: each lane's tank ([`Group::tank`]).
+/// at the outlet, evaluated only where the slosh modes are): level, flight and slosh, the
+/// ullage's volume, temperature and pressures, and the walls' temperatures. `tank`: each lane's
+/// tank ([`Group::tank`]).
 pub fn finish_nodes<T: Real>(
     g: Group<'_>,
     tank: &TankLanes<T>,
@@ -518,8 +519,7 @@ pub fn ullage_temperature<T: Real>(
     let f = fluid.props();
     let off = vapor_energy_offset(fluid);
     let t_r = 0.5 * (f.t_min_k + f.t_max_k);
-    // The linearisation's constants, once in f64 (the same operations each lane did on a splat).
-    let (u_r, cv_r) = f.vapor_ideal::<f64>(t_r);
+    let (u_r, cv_r) = f.vapor_ideal(t_r);
     let cv_g = m_g * HELIUM.cv_j_per_kg_k;
     let mut t = (u_j - m_v * (off + u_r - cv_r * t_r)) / (m_v * cv_r + cv_g);
     let mut done = T::Mask::splat(false);

@@ -859,7 +859,8 @@ fn integrate_fixed<'a, T: Real>(
         let tp = T::from_fn(|i| lanes[i].k as f64) * dt;
         // Without an excitation a lane's drive does not depend on time within its phase (the
         // switches are held over the step): gathered once for the step's stages and its end,
-        // the same values as per stage (one gather of every lane's drive a step, not three).
+        // the same values as per stage (one gather of every lane's drive a step, not three, or
+        // four where k1 is not reused; a group with an excited lane gathers per stage as before).
         let steady = lanes
             .iter()
             .all(|l| l.phase().excitation == Excitation::None);
