@@ -63,7 +63,10 @@ fn scratch_file(name: &str, text: &str) -> PathBuf {
 fn from_text(name: &str, text: &str, sets: &[&str]) -> Campaign {
     let path = scratch_file(name, text);
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    Campaign::load(&path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"))
+    let c = Campaign::load(&path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
+    // Loaded whole: the scratch copy is not read again.
+    std::fs::remove_dir_all(path.parent().unwrap()).ok();
+    c
 }
 
 #[test]
@@ -332,6 +335,7 @@ fn bad_composition_and_pressurant_keys_exit_2_naming_them() {
         err.contains("supersaturated") && err.contains("ullage.temperature_k"),
         "{err}"
     );
+    std::fs::remove_dir_all(ln2.parent().unwrap()).ok();
 }
 
 #[test]

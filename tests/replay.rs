@@ -132,6 +132,7 @@ fn cli_replay_reports_bit_equality_and_refuses_an_instance_beyond_the_run() {
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2), "instance beyond the run");
+    std::fs::remove_file(hist).ok();
     std::fs::remove_dir_all(dir).ok();
 }
 

@@ -396,6 +396,7 @@ fn run_reports_the_tvs_vented_mass_and_cycles() {
     assert_eq!(t.len(), 8);
     assert!(t.iter().all(|v| *v > 0.0), "{t:?}");
     assert!(n.iter().all(|v| *v > 0), "{n:?}");
+    std::fs::remove_dir_all(&out).ok();
 }
 
 /// The per-phase `tvs_vented_kg.<phase>` columns: in the trade's `pressure_control` variant the

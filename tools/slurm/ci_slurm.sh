@@ -104,3 +104,5 @@ for f in instances.parquet statistics.parquet; do
     cmp "results/merged/$f" "results/one/$f" || fail "merged $f differs from the one-machine run"
 done
 echo "slurm test: 4-task job array merged byte-identical to the one-machine run (instances.parquet, statistics.parquet)"
+# Kept on failure (fail() exits before here) for the logs; removed once the test has passed.
+cd / && rm -rf "$WORK"
