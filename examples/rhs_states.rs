@@ -483,6 +483,10 @@ const USAGE: &str = "usage: rhs_states CAMPAIGN (--out FILE | --time) [--rows N]
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{USAGE}");
+        return Ok(());
+    }
     // Every flag known and every value present: an unknown flag (a `--set` this example did not
     // take) used to be ignored and the file written for the campaign as it stands.
     let mut i = 1;

@@ -43,12 +43,20 @@ import lumped_rhs as L  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
 
+def run_tool(cmd):
+    """Run `cmd` in the repository root and return its stdout; on failure exit with the
+    command and its own error output (the reason, e.g. a `--set` the campaign refuses)."""
+    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"{' '.join(cmd)}\nexited with {r.returncode}:\n{r.stderr.strip()}")
+    return r.stdout
+
+
 def example(args):
     # RHS_STATES_BIN: an rhs_states binary already built (else cargo builds and runs it).
     built = os.environ.get("RHS_STATES_BIN")
     cargo = ["cargo", "run", "--quiet", "--release", "--example", "rhs_states", "--"]
-    cmd = ([built] if built else cargo) + args
-    return subprocess.run(cmd, cwd=ROOT, check=True, capture_output=True, text=True).stdout
+    return run_tool(([built] if built else cargo) + args)
 
 
 def timed(f, seconds):
@@ -64,12 +72,15 @@ def timed(f, seconds):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("campaign")
-    ap.add_argument("--rows", type=int, default=1000)
-    ap.add_argument("--seconds", type=float, default=2.0)
-    ap.add_argument("--tile", type=int, default=1)
-    ap.add_argument("--repeat", type=int, default=1)
+    ap = argparse.ArgumentParser(
+        description="Right-hand sides per second: cryoslosh against its numpy and JAX ports.",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    ap.add_argument("campaign", help="a campaign TOML (the ports cover the lumped level)")
+    ap.add_argument("--rows", type=int, default=1000, help="sampled states to evaluate")
+    ap.add_argument("--seconds", type=float, default=2.0, help="timing window per peer and round")
+    ap.add_argument("--tile", type=int, default=1, help="repeat the rows N times (larger batches)")
+    ap.add_argument("--repeat", type=int, default=1, help="interleaved rounds; the best is kept")
     a = ap.parse_args()
     campaign = os.path.abspath(a.campaign)
     rust, rust_tiled, results, cores = {}, {}, {}, {}

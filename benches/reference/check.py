@@ -24,7 +24,7 @@ state slot is perturbed by ±SENS_ULPS units in the last place (SENS_DRAWS rando
 SENS_FACTOR, and never beyond ALLOWANCE_CAP relative (the sensitivity comes from the port
 under test, so it must not be able to admit any error at all: a 1e-5 corruption of the LCH4
 coast's dU_u/dt passed until 2026-12-06; the largest allowed element of any shipped campaign is
-3e-7). The report counts the elements that needed the allowance. A port error (a wrong term, a
+8.4e-7, lch4_coast's under JAX, README.md). The report counts the elements that needed the allowance. A port error (a wrong term, a
 wrong branch) moves a rate by far more than its rounding sensitivity and still fails.
 
 The check fails (exit 1) when any element fails or any rate is NaN where cryoslosh's is not.
@@ -37,6 +37,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fluid_tank as F  # noqa: E402
 import lumped_rhs as L  # noqa: E402
 
 FLOOR_SHARE = 1e-6
@@ -44,6 +45,12 @@ ALLOWANCE_CAP = 1e-6
 SENS_ULPS = 4.0
 SENS_DRAWS = 4
 SENS_FACTOR = 10.0
+
+
+def slot(i):
+    """Component i as `i (NAME)`."""
+    i = int(i)
+    return f"{i} ({F.SLOT_NAMES[i]})" if i < len(F.SLOT_NAMES) else str(i)
 
 
 def errors(mine, ref):
@@ -105,10 +112,13 @@ def evaluate(backend, path):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("files", nargs="+")
-    ap.add_argument("--tol", type=float, default=1e-9)
-    ap.add_argument("--no-jax", action="store_true")
+    ap = argparse.ArgumentParser(
+        description="Check the numpy and JAX ports against cryoslosh's right-hand sides.",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    ap.add_argument("files", nargs="+", help="states written by `examples/rhs_states.rs`")
+    ap.add_argument("--tol", type=float, default=1e-9, help="relative tolerance per element")
+    ap.add_argument("--no-jax", action="store_true", help="check the numpy port only")
     a = ap.parse_args()
     backends = ["numpy"] + ([] if a.no_jax else ["jax"])
     ok = True
@@ -139,15 +149,15 @@ def main():
                     cmp = np.unravel_index(np.argmax(np.where(allowed, err, 0.0)), err.shape)
                     note = (
                         f"; {int(allowed.sum())} element(s) above {a.tol:g} within rounding "
-                        f"sensitivity (largest {np.max(err[allowed]):.1e}, component {cmp[1]})"
+                        f"sensitivity (largest {np.max(err[allowed]):.1e}, component {slot(cmp[1])})"
                     )
                 print(
                     f"{name:<22} {label:<11} rows={ref.shape[0]} max_rel_err={np.max(err_strict):.3e} "
-                    f"(component {comp}, row {row}) {'FAIL' if bad else 'ok'}{note}"
+                    f"(component {slot(comp)}, row {row}) {'FAIL' if bad else 'ok'}{note}"
                 )
                 if bad:
                     for i in np.argsort(-worst)[:5]:
-                        print(f"    component {i}: {worst[i]:.3e}")
+                        print(f"    component {slot(i)}: {worst[i]:.3e}")
     if not ok:
         print(f"same-work peers differ from cryoslosh by more than {a.tol:g}", file=sys.stderr)
         sys.exit(1)

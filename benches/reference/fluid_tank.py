@@ -13,6 +13,13 @@ PI = math.pi
 M_V, M_G, U_U, M_S, H_S, M_B, H_B, E_WD, E_WW, Q1, Q1D, Q2, Q2D, VEL, ALT, P_FILT = range(16)
 VENT_V, VENT_G, OUT, PRESS_IN, E_ENV, E_PRESS, E_VENT, E_OUT, E_WORK, E_PUMP, VENT_TVS = range(16, 27)
 NS = 27  # E_PUMP (the jet mixer's heat) and VENT_TVS stay 0 here: the port has no [mixer] or [tvs]
+# The slots' names in order, for reports (`check.py`).
+SLOT_NAMES = (
+    "M_V", "M_G", "U_U", "M_S", "H_S", "M_B", "H_B", "E_WD", "E_WW", "Q1", "Q1D", "Q2", "Q2D",
+    "VEL", "ALT", "P_FILT", "VENT_V", "VENT_G", "OUT", "PRESS_IN", "E_ENV", "E_PRESS", "E_VENT",
+    "E_OUT", "E_WORK", "E_PUMP", "VENT_TVS",
+)
+assert [globals()[n] for n in SLOT_NAMES] == list(range(NS))
 
 # Solver caps and tolerances, private constants of the Rust code.
 FLUID_MAX_ITER = 40  # fluids/mod.rs MAX_ITER
