@@ -18,14 +18,15 @@ is K (P_sat(T_s) − P_v), and on a locked-up tank P_v sits within 1e-9 of P_sat
 1.1e5 Pa), so a last-bit change of the ullage temperature (1e-15) moves that rate by 1e-6
 relative. Rounding alone then decides those digits: the numpy port performs the Rust operations
 in the same order, but rounds the multiply and the add of each of cryoslosh's fused
-multiply-adds separately, and XLA's own exp/log do not round like glibc's. Such an element also passes when its difference is within the
-rate's measured rounding sensitivity: `sens` = the largest change of the numpy rate when every
-state slot is perturbed by ±SENS_ULPS units in the last place (SENS_DRAWS random draws), times
-SENS_FACTOR, and never beyond ALLOWANCE_CAP relative (the sensitivity comes from the port
-under test, so it must not be able to admit any error at all: a 1e-5 corruption of the LCH4
-coast's dU_u/dt passed until 2026-12-06; the largest allowed element of any shipped campaign is
-8.4e-7, lch4_coast's under JAX, README.md). The report counts the elements that needed the allowance. A port error (a wrong term, a
-wrong branch) moves a rate by far more than its rounding sensitivity and still fails.
+multiply-adds separately, and XLA's own exp/log do not round like glibc's. Such an element also
+passes when its difference is within the rate's measured rounding sensitivity: `sens` = the
+largest change of the numpy rate when every state slot is perturbed by ±SENS_ULPS units in the
+last place (SENS_DRAWS random draws), times SENS_FACTOR, and never beyond ALLOWANCE_CAP relative
+(the sensitivity comes from the port under test, so it must not be able to admit any error at
+all: a 1e-5 corruption of the LCH4 coast's dU_u/dt passed until 2026-12-06; the largest allowed
+element of any shipped campaign is 8.4e-7, lch4_coast's under JAX, README.md). The report counts
+the elements that needed the allowance. A port error (a wrong term, a wrong branch) moves a rate
+by far more than its rounding sensitivity and still fails.
 
 The check fails (exit 1) when any element fails or any rate is NaN where cryoslosh's is not.
 """
