@@ -169,10 +169,12 @@ def main():
     rk4_sets = ["campaign.integrator=rk4", f"campaign.dt_s={a.dt}"]
     with tempfile.TemporaryDirectory() as tmp:
         start = os.path.join(tmp, "start.parquet")
-        # The campaign's own step first: `--dt` is for the ports, and a campaign with events
-        # (not ported) may refuse it (a step must resolve its slosh period).
-        example([campaign, "--initial", "--instances", str(n), "--out", start])
-        _, structure, _ = L.load(start)
+        # The structure (read from the first row) at the campaign's own step, from one instance:
+        # `--dt` is for the ports, and a campaign with events (not ported) may refuse it (a step
+        # must resolve its slosh period).
+        probe = os.path.join(tmp, "probe.parquet")
+        example([campaign, "--initial", "--instances", "1", "--out", probe])
+        _, structure, _ = L.load(probe)
         if structure["has_relief"] or structure["has_pressurization"]:
             return events_only(campaign, n, a.gpu, tmp)
         example([campaign, "--initial", "--instances", str(n), "--out", start, "--set", f"campaign.dt_s={a.dt}"])
